@@ -58,7 +58,11 @@ impl GraphBuilder {
     }
 
     /// Adds a node, configured by `f`.
-    pub fn node(mut self, name: impl Into<String>, f: impl FnOnce(NodeBuilder) -> NodeBuilder) -> Self {
+    pub fn node(
+        mut self,
+        name: impl Into<String>,
+        f: impl FnOnce(NodeBuilder) -> NodeBuilder,
+    ) -> Self {
         let node = f(NodeBuilder {
             node: NodeSpec {
                 name: Cow::Owned(name.into()),
@@ -75,7 +79,10 @@ impl GraphBuilder {
 
     /// The declaration, unchecked.
     pub fn into_spec(self) -> GraphSpec {
-        GraphSpec { nodes: Cow::Owned(self.nodes), ..self.spec }
+        GraphSpec {
+            nodes: Cow::Owned(self.nodes),
+            ..self.spec
+        }
     }
 
     /// Checks the declaration and compiles it.
@@ -102,7 +109,10 @@ impl NodeBuilder {
 
     /// Adds a parameter with any distribution.
     pub fn param(mut self, name: impl Into<String>, dist: ParamDist) -> Self {
-        self.params.push(ParamSpec { name: Cow::Owned(name.into()), dist });
+        self.params.push(ParamSpec {
+            name: Cow::Owned(name.into()),
+            dist,
+        });
         self
     }
 
@@ -142,6 +152,10 @@ impl NodeBuilder {
     }
 
     fn finish(self) -> NodeSpec {
-        NodeSpec { params: Cow::Owned(self.params), slots: Cow::Owned(self.slots), ..self.node }
+        NodeSpec {
+            params: Cow::Owned(self.params),
+            slots: Cow::Owned(self.slots),
+            ..self.node
+        }
     }
 }

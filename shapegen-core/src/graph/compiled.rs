@@ -63,8 +63,12 @@ impl Graph {
         if !errors.is_empty() {
             return Err(GraphErrors(errors));
         }
-        let ids: HashMap<&str, NodeId> =
-            spec.nodes.iter().enumerate().map(|(i, n)| (n.name.as_ref(), i as NodeId)).collect();
+        let ids: HashMap<&str, NodeId> = spec
+            .nodes
+            .iter()
+            .enumerate()
+            .map(|(i, n)| (n.name.as_ref(), i as NodeId))
+            .collect();
         let mut layouts = Vec::with_capacity(spec.nodes.len());
         let mut edges = Vec::new();
         for (i, node) in spec.nodes.iter().enumerate() {
@@ -83,12 +87,23 @@ impl Graph {
                 param_offsets,
             });
             for (j, s) in node.slots.iter().enumerate() {
-                edges.push(Edge { from: i as NodeId, slot: j as u8, to: ids[s.target.as_ref()], p: s.p });
+                edges.push(Edge {
+                    from: i as NodeId,
+                    slot: j as u8,
+                    to: ids[s.target.as_ref()],
+                    p: s.p,
+                });
             }
         }
         let start = ids[spec.start.as_ref()];
         let fingerprint = fingerprint(&spec);
-        Ok(Self { spec, layouts, edges, start, fingerprint })
+        Ok(Self {
+            spec,
+            layouts,
+            edges,
+            start,
+            fingerprint,
+        })
     }
 
     /// The declaration this graph was built from.
@@ -118,7 +133,11 @@ impl Graph {
     /// The id of the node called `name`.
     #[must_use]
     pub fn node_id(&self, name: &str) -> Option<NodeId> {
-        self.spec.nodes.iter().position(|n| n.name == name).map(|i| i as NodeId)
+        self.spec
+            .nodes
+            .iter()
+            .position(|n| n.name == name)
+            .map(|i| i as NodeId)
     }
 
     /// The gene layout of node `id`.
@@ -174,12 +193,17 @@ fn check(spec: &GraphSpec) -> Vec<GraphError> {
         errors.push(GraphError::NoNodes);
     }
     if nodes.len() > MAX_NODES {
-        errors.push(GraphError::TooManyNodes { count: nodes.len(), max: MAX_NODES });
+        errors.push(GraphError::TooManyNodes {
+            count: nodes.len(),
+            max: MAX_NODES,
+        });
     }
     let mut seen = HashSet::new();
     for n in nodes.iter() {
         if !seen.insert(n.name.as_ref()) {
-            errors.push(GraphError::DuplicateNode { node: n.name.to_string() });
+            errors.push(GraphError::DuplicateNode {
+                node: n.name.to_string(),
+            });
         }
     }
     for n in nodes.iter() {
@@ -187,19 +211,33 @@ fn check(spec: &GraphSpec) -> Vec<GraphError> {
         let mut params = HashSet::new();
         for p in n.params.iter() {
             if !params.insert(p.name.as_ref()) {
-                errors.push(GraphError::DuplicateParam { node: node(), param: p.name.to_string() });
+                errors.push(GraphError::DuplicateParam {
+                    node: node(),
+                    param: p.name.to_string(),
+                });
             }
             if let Some(reason) = p.dist.problem() {
-                errors.push(GraphError::EmptySupport { node: node(), param: p.name.to_string(), reason });
+                errors.push(GraphError::EmptySupport {
+                    node: node(),
+                    param: p.name.to_string(),
+                    reason,
+                });
             }
         }
         if n.slots.len() > MAX_SLOTS {
-            errors.push(GraphError::TooManySlots { node: node(), count: n.slots.len(), max: MAX_SLOTS });
+            errors.push(GraphError::TooManySlots {
+                node: node(),
+                count: n.slots.len(),
+                max: MAX_SLOTS,
+            });
         }
         let mut slots = HashSet::new();
         for s in n.slots.iter() {
             if !slots.insert(s.name.as_ref()) {
-                errors.push(GraphError::DuplicateSlot { node: node(), slot: s.name.to_string() });
+                errors.push(GraphError::DuplicateSlot {
+                    node: node(),
+                    slot: s.name.to_string(),
+                });
             }
             if !seen.contains(s.target.as_ref()) {
                 errors.push(GraphError::UnknownTarget {
@@ -209,36 +247,54 @@ fn check(spec: &GraphSpec) -> Vec<GraphError> {
                 });
             }
             if !(0.0..=1.0).contains(&s.p) {
-                errors.push(GraphError::BadProbability { node: node(), slot: s.name.to_string(), p: s.p });
+                errors.push(GraphError::BadProbability {
+                    node: node(),
+                    slot: s.name.to_string(),
+                    p: s.p,
+                });
             }
         }
     }
     if spec.start.is_empty() {
         errors.push(GraphError::NoStart);
     } else if !seen.contains(spec.start.as_ref()) {
-        errors.push(GraphError::UnknownStart { start: spec.start.to_string() });
+        errors.push(GraphError::UnknownStart {
+            start: spec.start.to_string(),
+        });
     } else {
         // Reachability from the start node through slots.
-        let index: HashMap<&str, usize> =
-            nodes.iter().enumerate().map(|(i, n)| (n.name.as_ref(), i)).collect();
+        let index: HashMap<&str, usize> = nodes
+            .iter()
+            .enumerate()
+            .map(|(i, n)| (n.name.as_ref(), i))
+            .collect();
         let mut reached = vec![false; nodes.len()];
         let mut stack = vec![index[spec.start.as_ref()]];
         while let Some(i) = stack.pop() {
             if std::mem::replace(&mut reached[i], true) {
                 continue;
             }
-            stack.extend(nodes[i].slots.iter().filter_map(|s| index.get(s.target.as_ref()).copied()));
+            stack.extend(
+                nodes[i]
+                    .slots
+                    .iter()
+                    .filter_map(|s| index.get(s.target.as_ref()).copied()),
+            );
         }
         for (i, n) in nodes.iter().enumerate() {
             // A duplicate name maps to one index; report each distinct node once.
             if !reached[i] && index[n.name.as_ref()] == i {
-                errors.push(GraphError::Unreachable { node: n.name.to_string() });
+                errors.push(GraphError::Unreachable {
+                    node: n.name.to_string(),
+                });
             }
         }
     }
     let l = &spec.limits;
     if l.min_len == 0 {
-        errors.push(GraphError::BadLimits { reason: "min_len must be at least 1 (the root gene)".into() });
+        errors.push(GraphError::BadLimits {
+            reason: "min_len must be at least 1 (the root gene)".into(),
+        });
     }
     if let Some(max) = l.max_len {
         if max <= l.min_len {

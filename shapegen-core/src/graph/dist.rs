@@ -275,15 +275,17 @@ fn normal_cdf(z: f64) -> f64 {
 fn erfc(x: f64) -> f64 {
     let z = x.abs();
     let t = 1.0 / (1.0 + 0.5 * z);
-    let r = t * (-z * z - 1.265_512_23
-        + t * (1.000_023_68
-            + t * (0.374_091_96
-                + t * (0.096_784_18
-                    + t * (-0.186_288_06
-                        + t * (0.278_868_07
-                            + t * (-1.135_203_98
-                                + t * (1.488_515_87 + t * (-0.822_152_23 + t * 0.170_872_77)))))))))
-        .exp();
+    let r = t
+        * (-z * z - 1.265_512_23
+            + t * (1.000_023_68
+                + t * (0.374_091_96
+                    + t * (0.096_784_18
+                        + t * (-0.186_288_06
+                            + t * (0.278_868_07
+                                + t * (-1.135_203_98
+                                    + t * (1.488_515_87
+                                        + t * (-0.822_152_23 + t * 0.170_872_77)))))))))
+            .exp();
     if x >= 0.0 { r } else { 2.0 - r }
 }
 
@@ -373,7 +375,11 @@ mod tests {
         assert!(Dist::uniform(2.0, 1.0).problem().is_some());
         assert!(Dist::uniform(f32::NAN, 1.0).problem().is_some());
         assert!(Dist::normal(0.0, 0.0).problem().is_some());
-        assert!(Dist::truncated_normal(0.0, 1.0, 100.0, 101.0).problem().is_some());
+        assert!(
+            Dist::truncated_normal(0.0, 1.0, 100.0, 101.0)
+                .problem()
+                .is_some()
+        );
         assert!(IntDist::Uniform { lo: 3, hi: 2 }.problem().is_some());
         assert!(choice_problem(&[]).is_some());
         assert!(choice_problem(&[0.0, 0.0]).is_some());

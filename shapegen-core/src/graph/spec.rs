@@ -154,7 +154,10 @@ impl ParamSpec {
     /// A parameter from `'static` data (usable in a `static`).
     #[must_use]
     pub const fn new(name: &'static str, dist: ParamDist) -> Self {
-        Self { name: Cow::Borrowed(name), dist }
+        Self {
+            name: Cow::Borrowed(name),
+            dist,
+        }
     }
 }
 
@@ -173,7 +176,11 @@ impl SlotSpec {
     /// A slot from `'static` data (usable in a `static`).
     #[must_use]
     pub const fn new(name: &'static str, target: &'static str, p: f64) -> Self {
-        Self { name: Cow::Borrowed(name), target: Cow::Borrowed(target), p }
+        Self {
+            name: Cow::Borrowed(name),
+            target: Cow::Borrowed(target),
+            p,
+        }
     }
 }
 
@@ -221,7 +228,11 @@ pub struct Limits {
 
 impl Limits {
     /// No limits (`L_min` = 1).
-    pub const NONE: Self = Self { max_depth: None, min_len: 1, max_len: None };
+    pub const NONE: Self = Self {
+        max_depth: None,
+        min_len: 1,
+        max_len: None,
+    };
 
     /// Whether a chromosome of `len` genes satisfies the length limits.
     #[must_use]

@@ -1,8 +1,13 @@
 use super::*;
 
-static SHIP_PARAMS: [ParamSpec; 1] =
-    [ParamSpec::new("scale", ParamDist::uniform_vec3([0.6; 3], [1.5; 3]))];
-static SHIP_SLOTS: [SlotSpec; 2] = [SlotSpec::new("next", "Body", 1.0 / 3.0), SlotSpec::new("wing", "Wing", 1.0 / 3.0)];
+static SHIP_PARAMS: [ParamSpec; 1] = [ParamSpec::new(
+    "scale",
+    ParamDist::uniform_vec3([0.6; 3], [1.5; 3]),
+)];
+static SHIP_SLOTS: [SlotSpec; 2] = [
+    SlotSpec::new("next", "Body", 1.0 / 3.0),
+    SlotSpec::new("wing", "Wing", 1.0 / 3.0),
+];
 static START_SLOTS: [SlotSpec; 1] = [SlotSpec::new("body", "Body", 1.0)];
 static NODES: [NodeSpec; 3] = [
     NodeSpec::new("Start", &[], &START_SLOTS, false),
@@ -37,14 +42,21 @@ fn builder_and_static_agree_on_fingerprint() {
         .build()
         .unwrap();
     assert_eq!(built.spec(), &SPEC);
-    assert_eq!(built.fingerprint(), Graph::new(SPEC.clone()).unwrap().fingerprint());
+    assert_eq!(
+        built.fingerprint(),
+        Graph::new(SPEC.clone()).unwrap().fingerprint()
+    );
 }
 
 #[test]
 fn every_problem_is_reported_at_once() {
     let err = GraphBuilder::new("bad")
         .start("Nope")
-        .limits(Limits { max_depth: None, min_len: 5, max_len: Some(5) })
+        .limits(Limits {
+            max_depth: None,
+            min_len: 5,
+            max_len: Some(5),
+        })
         .node("A", |n| {
             n.param_f32("x", Dist::uniform(1.0, 0.0))
                 .param_f32("x", Dist::constant(1.0))
@@ -56,25 +68,39 @@ fn every_problem_is_reported_at_once() {
         .unwrap_err();
     let e = err.errors();
     let has = |f: &dyn Fn(&GraphError) -> bool| e.iter().any(f);
-    assert!(has(&|e| matches!(e, GraphError::DuplicateNode { node } if node == "A")));
-    assert!(has(&|e| matches!(e, GraphError::DuplicateParam { param, .. } if param == "x")));
-    assert!(has(&|e| matches!(e, GraphError::EmptySupport { param, .. } if param == "x")));
-    assert!(has(&|e| matches!(e, GraphError::DuplicateSlot { slot, .. } if slot == "s")));
-    assert!(has(&|e| matches!(e, GraphError::UnknownTarget { target, .. } if target == "Missing")));
-    assert!(has(&|e| matches!(e, GraphError::BadProbability { p, .. } if *p == 1.5)));
-    assert!(has(&|e| matches!(e, GraphError::UnknownStart { start } if start == "Nope")));
+    assert!(has(
+        &|e| matches!(e, GraphError::DuplicateNode { node } if node == "A")
+    ));
+    assert!(has(
+        &|e| matches!(e, GraphError::DuplicateParam { param, .. } if param == "x")
+    ));
+    assert!(has(
+        &|e| matches!(e, GraphError::EmptySupport { param, .. } if param == "x")
+    ));
+    assert!(has(
+        &|e| matches!(e, GraphError::DuplicateSlot { slot, .. } if slot == "s")
+    ));
+    assert!(has(
+        &|e| matches!(e, GraphError::UnknownTarget { target, .. } if target == "Missing")
+    ));
+    assert!(has(
+        &|e| matches!(e, GraphError::BadProbability { p, .. } if *p == 1.5)
+    ));
+    assert!(has(
+        &|e| matches!(e, GraphError::UnknownStart { start } if start == "Nope")
+    ));
     assert!(has(&|e| matches!(e, GraphError::BadLimits { .. })));
     assert_eq!(e.len(), 8, "{err}");
     let text = err.to_string();
-    assert!(text.contains("8 problems") && text.contains("Missing"), "{text}");
+    assert!(
+        text.contains("8 problems") && text.contains("Missing"),
+        "{text}"
+    );
 }
 
 #[test]
 fn unreachable_and_missing_start_are_reported() {
-    let err = GraphBuilder::new("g")
-        .node("A", |n| n)
-        .build()
-        .unwrap_err();
+    let err = GraphBuilder::new("g").node("A", |n| n).build().unwrap_err();
     assert_eq!(err.errors(), &[GraphError::NoStart]);
     let err = GraphBuilder::new("g")
         .start("A")
@@ -83,7 +109,10 @@ fn unreachable_and_missing_start_are_reported() {
         .node("C", |n| n.slot("a", "A", 0.5))
         .build()
         .unwrap_err();
-    assert_eq!(err.errors(), &[GraphError::Unreachable { node: "C".into() }]);
+    assert_eq!(
+        err.errors(),
+        &[GraphError::Unreachable { node: "C".into() }]
+    );
     let err = GraphBuilder::new("g").start("A").build().unwrap_err();
     assert!(err.errors().contains(&GraphError::NoNodes));
 }
