@@ -5,7 +5,9 @@ use shapegen::prelude::*;
 use shapegen::rng::stream;
 
 /// Chi-square critical values at significance 0.001, by degrees of freedom.
-const CHI2_999: [f64; 11] = [0.0, 10.83, 13.82, 16.27, 18.47, 20.52, 22.46, 24.32, 26.12, 27.88, 29.59];
+const CHI2_999: [f64; 11] = [
+    0.0, 10.83, 13.82, 16.27, 18.47, 20.52, 22.46, 24.32, 26.12, 27.88, 29.59,
+];
 
 fn chi_square(observed: &[u64], expected_weights: &[f64]) -> f64 {
     let n: u64 = observed.iter().sum();
@@ -34,7 +36,11 @@ fn graph() -> Graph {
                 .slot("never", "W", 0.0)
         })
         .node("T", |n| n.emits().slot("seg", "T", 1.0))
-        .node("W", |n| n.emits().param_f32("move", Dist::uniform(-0.5, 0.5)).slot("seg", "W", 0.9))
+        .node("W", |n| {
+            n.emits()
+                .param_f32("move", Dist::uniform(-0.5, 0.5))
+                .slot("seg", "W", 0.9)
+        })
         .build()
         .unwrap()
 }
@@ -66,11 +72,15 @@ fn grow_frequencies_match_p_over_sum_p() {
         let mut x = c.clone();
         let g = grow(&graph, &mut x, &mut rng).expect("open slots exist");
         let k = cases.iter().position(|&s| s == (g.parent, g.slot));
-        let k = k.unwrap_or_else(|| panic!("grew an unexpected slot {:?} (p = 0?)", (g.parent, g.slot)));
+        let k = k
+            .unwrap_or_else(|| panic!("grew an unexpected slot {:?} (p = 0?)", (g.parent, g.slot)));
         counts[k] += 1;
     }
     let chi2 = chi_square(&counts, &weights);
-    assert!(chi2 < CHI2_999[cases.len() - 1], "chi2 = {chi2}, counts {counts:?}");
+    assert!(
+        chi2 < CHI2_999[cases.len() - 1],
+        "chi2 = {chi2}, counts {counts:?}"
+    );
 }
 
 #[test]
@@ -86,10 +96,16 @@ fn grower_frequencies_match_p_over_sum_p() {
         let mut x = c.clone();
         grower.reset(&graph, &x);
         let g = grower.grow(&graph, &mut x, &mut rng).unwrap();
-        counts[cases.iter().position(|&s| s == (g.parent, g.slot)).expect("p > 0 slot")] += 1;
+        counts[cases
+            .iter()
+            .position(|&s| s == (g.parent, g.slot))
+            .expect("p > 0 slot")] += 1;
     }
     let chi2 = chi_square(&counts, &weights);
-    assert!(chi2 < CHI2_999[cases.len() - 1], "chi2 = {chi2}, counts {counts:?}");
+    assert!(
+        chi2 < CHI2_999[cases.len() - 1],
+        "chi2 = {chi2}, counts {counts:?}"
+    );
 }
 
 #[test]
@@ -110,7 +126,10 @@ fn cut_frequencies_match_one_minus_p() {
         counts[victims.iter().position(|&v| v == victim).unwrap()] += 1;
     }
     let chi2 = chi_square(&counts, &weights);
-    assert!(chi2 < CHI2_999[victims.len() - 1], "chi2 = {chi2}, counts {counts:?}");
+    assert!(
+        chi2 < CHI2_999[victims.len() - 1],
+        "chi2 = {chi2}, counts {counts:?}"
+    );
 }
 
 #[test]

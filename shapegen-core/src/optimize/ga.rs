@@ -1,0 +1,389 @@
+//! The genetic algorithm (paper Algorithm 1).
+
+use std::collections::HashSet;
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use super::fitness::is_valid_score;
+use super::progress::{Candidate, Progress, evaluate};
+use super::selection::{Roulette, RouletteShift, rank_order, tournament};
+use super::{Budget, Fitness, Individual, Observer, OptimizeError, Optimizer, RunResult, purpose};
+use crate::graph::Graph;
+use crate::ops::{
+    CrossoverConfig, InitLength, MutationSplit, crossover, mutate, random_individual,
+};
+use crate::rng::{ShapeRng, stream};
+
+/// Parameters of the [`Ga`].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GaParams {
+    /// Population size `P`.
+    pub population: usize,
+    /// Number of elites `E` copied unchanged to the next generation.
+    pub elites: usize,
+    /// Length of the random initial individuals.
+    pub init: InitLength,
+    /// Probability that a pair of children is made by mutation rather than crossover.
+    pub mutation_rate: f64,
+    /// Relative weights of grow, cut and alter among mutations.
+    pub mutation_split: MutationSplit,
+    /// Tournament size `k`.
+    pub tournament: usize,
+    /// Crossover settings.
+    pub crossover: CrossoverConfig,
+    /// Roulette weights for negative fitness.
+    pub roulette: RouletteShift,
+    /// Count identical chromosomes once when choosing elites (against sample impoverishment).
+    pub elite_dedup: bool,
+}
+
+impl Default for GaParams {
+    /// The paper's spaceship settings ([`GaParams::paper_spaceship`]).
+    fn default() -> Self {
+        Self::paper_spaceship()
+    }
+}
+
+impl GaParams {
+    /// Spaceship volume (paper Fig. 7 left): P 150, E 30, `L0` 50, 30 % mutation as 13.5 / 13.5 / 3.
+    #[must_use]
+    pub const fn paper_spaceship() -> Self {
+        Self {
+            population: 150,
+            elites: 30,
+            init: InitLength::Around { l0: 50 },
+            mutation_rate: 0.3,
+            mutation_split: MutationSplit::new(13.5, 13.5, 3.0),
+            tournament: 10,
+            crossover: CrossoverConfig {
+                max_retries: 3,
+                edge_match: crate::ops::EdgeMatch::Strict,
+            },
+            roulette: RouletteShift::IfNegative,
+            elite_dedup: false,
+        }
+    }
+
+    /// Tree sketch (paper Fig. 7 right): P 200, E 30, `L0` 250, 30 % mutation as 10.5 / 10.5 / 9.
+    #[must_use]
+    pub const fn paper_tree_sketch() -> Self {
+        Self {
+            population: 200,
+            elites: 30,
+            init: InitLength::Around { l0: 250 },
+            mutation_split: MutationSplit::new(10.5, 10.5, 9.0),
+            ..Self::paper_spaceship()
+        }
+    }
+
+    /// City skyline, shoe (paper Fig. 9b): P 180, E 40, `L0` 50, 40 % mutation as 10 / 12 / 18.
+    #[must_use]
+    pub const fn paper_city_shoe() -> Self {
+        Self {
+            population: 180,
+            elites: 40,
+            mutation_rate: 0.4,
+            mutation_split: MutationSplit::new(10.0, 12.0, 18.0),
+            ..Self::paper_spaceship()
+        }
+    }
+
+    /// Every problem with these parameters.
+    pub fn problems(&self) -> Vec<String> {
+        let mut p = Vec::new();
+        if self.population < 2 {
+            p.push(format!(
+                "population must be at least 2, got {}",
+                self.population
+            ));
+        }
+        if self.elites >= self.population {
+            p.push(format!(
+                "elites ({}) must be fewer than the population ({})",
+                self.elites, self.population
+            ));
+        }
+        if !(0.0..=1.0).contains(&self.mutation_rate) {
+            p.push(format!(
+                "mutation_rate must be in [0, 1], got {}",
+                self.mutation_rate
+            ));
+        }
+        if let Some(e) = self.mutation_split.problem() {
+            p.push(e.to_string());
+        }
+        if self.tournament == 0 {
+            p.push("tournament size must be at least 1".into());
+        }
+        if self.crossover.max_retries == 0 && self.mutation_rate < 1.0 {
+            p.push("crossover.max_retries must be at least 1".into());
+        }
+        p
+    }
+}
+
+/// The paper's genetic algorithm (Algorithm 1).
+///
+/// Each generation: evaluate the new individuals (copies keep their cached
+/// fitness), sort best first (stable; failed evaluations last), keep the `E`
+/// best, then fill the population with pairs of children. For each pair one
+/// parent is drawn by k-tournament and one by roulette; with probability
+/// `mutation_rate` each parent's clone gets one mutation (grow, cut or alter
+/// by the split), otherwise the pair is the crossover of the parents (or
+/// their copies when no compatible connection is found). Operators respect
+/// the graph's limits, so every child satisfies `L_min <= L < L_max`.
+///
+/// Pair `i` of generation `g` draws from its own stream `(seed, g, i)`, so
+/// breeding and evaluation run in parallel and the result is the same for any
+/// number of threads.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Ga {
+    /// The parameters.
+    pub params: GaParams,
+}
+
+impl Ga {
+    /// A GA with the given parameters.
+    #[must_use]
+    pub const fn new(params: GaParams) -> Self {
+        Self { params }
+    }
+
+    fn initial_population(
+        &self,
+        graph: &Graph,
+        seed: u64,
+    ) -> Result<Vec<Candidate>, OptimizeError> {
+        (0..self.params.population as u64)
+            .into_par_iter()
+            .map(|i| {
+                let mut rng = stream(seed, &[0, i, purpose::INIT]);
+                Ok(Candidate::new(random_individual(
+                    graph,
+                    &self.params.init,
+                    &mut rng,
+                )?))
+            })
+            .collect()
+    }
+
+    /// The elites: the `E` best valid individuals, each structure once if `elite_dedup`.
+    fn elites(&self, graph: &Graph, sorted: &[Individual]) -> Vec<Candidate> {
+        let mut seen = HashSet::new();
+        sorted
+            .iter()
+            .filter(|i| is_valid_score(i.fitness))
+            .filter(|i| {
+                !self.params.elite_dedup || seen.insert(i.chromosome.structural_hash(graph))
+            })
+            .take(self.params.elites)
+            .map(|i| Candidate {
+                chromosome: i.chromosome.clone(),
+                fitness: Some(i.fitness),
+            })
+            .collect()
+    }
+
+    fn breed_pair(
+        &self,
+        graph: &Graph,
+        sorted: &[Individual],
+        wheel: &Roulette,
+        rng: &mut ShapeRng,
+    ) -> [Candidate; 2] {
+        let p = &self.params;
+        let a = &sorted[tournament(sorted.len(), p.tournament, rng)];
+        let b = &sorted[wheel.pick(rng)];
+        let copy = |i: &Individual| Candidate {
+            chromosome: i.chromosome.clone(),
+            fitness: Some(i.fitness),
+        };
+        if rand::RngExt::random_bool(rng, p.mutation_rate) {
+            [a, b].map(|parent| {
+                let mut child = copy(parent);
+                if mutate(graph, &mut child.chromosome, &p.mutation_split, rng).1 {
+                    child.fitness = None;
+                }
+                child
+            })
+        } else {
+            match crossover(graph, &a.chromosome, &b.chromosome, &p.crossover, rng) {
+                Some((c1, c2)) => [Candidate::new(c1), Candidate::new(c2)],
+                None => [copy(a), copy(b)],
+            }
+        }
+    }
+}
+
+impl Optimizer for Ga {
+    fn name(&self) -> &'static str {
+        "ga"
+    }
+
+    fn run<F: Fitness>(
+        &self,
+        graph: &Graph,
+        fitness: &F,
+        budget: &Budget,
+        seed: u64,
+        observer: &mut dyn Observer,
+    ) -> Result<RunResult, OptimizeError> {
+        let problems = self.params.problems();
+        if !problems.is_empty() {
+            return Err(OptimizeError::Params(problems.join("; ")));
+        }
+        if budget.is_unbounded() {
+            return Err(OptimizeError::UnboundedBudget);
+        }
+        let mut progress = Progress::new(*budget, observer);
+        let (mut population, fresh) = evaluate(fitness, self.initial_population(graph, seed)?);
+        progress.evaluations += fresh;
+        let mut wheel = Roulette::default();
+        let mut scores = Vec::with_capacity(self.params.population);
+        loop {
+            population.sort_by(|a, b| rank_order(a.fitness, b.fitness));
+            if let Some(stop) = progress.generation_done(&population) {
+                return Ok(progress.finish(stop, population));
+            }
+            progress.generation += 1;
+            let generation = progress.generation;
+            let mut next = self.elites(graph, &population);
+            scores.clear();
+            scores.extend(population.iter().map(|i| i.fitness));
+            wheel.rebuild(&scores, self.params.roulette);
+            let missing = self.params.population - next.len();
+            let children: Vec<Candidate> = (0..missing.div_ceil(2) as u64)
+                .into_par_iter()
+                .flat_map_iter(|i| {
+                    let mut rng = stream(seed, &[generation, i, purpose::BREED]);
+                    self.breed_pair(graph, &population, &wheel, &mut rng)
+                })
+                .collect();
+            // With one place left, only the pair's first child is kept.
+            next.extend(children.into_iter().take(missing));
+            let (evaluated, fresh) = evaluate(fitness, next);
+            progress.evaluations += fresh;
+            population = evaluated;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::genome::Chromosome;
+    use crate::graph::{Dist, GraphBuilder};
+    use crate::optimize::{FnFitness, NoObserver};
+
+    fn graph() -> Graph {
+        GraphBuilder::new("t")
+            .start("S")
+            .node("S", |n| n.slot("a", "A", 1.0))
+            .node("A", |n| {
+                n.param_f32("x", Dist::uniform(0.0, 1.0))
+                    .slot("l", "A", 0.5)
+                    .slot("r", "A", 0.5)
+            })
+            .build()
+            .unwrap()
+    }
+
+    #[test]
+    fn bad_params_and_budget_are_errors() {
+        let g = graph();
+        let f = FnFitness(|c: &Chromosome| c.len() as f64);
+        let ga = Ga::new(GaParams {
+            population: 10,
+            elites: 10,
+            tournament: 0,
+            ..GaParams::default()
+        });
+        let err = ga
+            .run(&g, &f, &Budget::generations(1), 0, &mut NoObserver)
+            .unwrap_err();
+        let OptimizeError::Params(text) = err else {
+            panic!("{err:?}")
+        };
+        assert!(
+            text.contains("elites") && text.contains("tournament"),
+            "{text}"
+        );
+        let ga = Ga::new(GaParams {
+            population: 10,
+            elites: 2,
+            ..GaParams::default()
+        });
+        assert_eq!(
+            ga.run(&g, &f, &Budget::default(), 0, &mut NoObserver)
+                .unwrap_err(),
+            OptimizeError::UnboundedBudget
+        );
+    }
+
+    #[test]
+    fn nan_fitness_ranks_last_and_never_wins() {
+        let g = graph();
+        // Odd lengths fail to evaluate.
+        let f = FnFitness(|c: &Chromosome| {
+            if c.len() % 2 == 1 {
+                f64::NAN
+            } else {
+                c.len() as f64
+            }
+        });
+        let ga = Ga::new(GaParams {
+            population: 30,
+            elites: 5,
+            init: InitLength::Between { lo: 2, hi: 20 },
+            ..GaParams::default()
+        });
+        let r = ga
+            .run(&g, &f, &Budget::generations(15), 3, &mut NoObserver)
+            .unwrap();
+        assert!(r.best_fitness.is_finite() && r.best.len() % 2 == 0);
+        let firsts: Vec<f64> = r.population.iter().map(|i| i.fitness).collect();
+        let first_nan = firsts
+            .iter()
+            .position(|f| f.is_nan())
+            .unwrap_or(firsts.len());
+        assert!(
+            firsts[first_nan..].iter().all(|f| f.is_nan()),
+            "NaN sorted last: {firsts:?}"
+        );
+    }
+
+    #[test]
+    fn cached_fitness_matches_evaluation_and_counts_are_consistent() {
+        let g = graph();
+        let f = FnFitness(|c: &Chromosome| -(c.len() as f64 - 12.0).abs());
+        let ga = Ga::new(GaParams {
+            population: 20,
+            elites: 4,
+            init: InitLength::Between { lo: 1, hi: 30 },
+            ..GaParams::default()
+        });
+        let mut gens = 0;
+        let mut last_evals = 0;
+        let mut observer = |s: &super::super::GenerationStats<'_>| {
+            assert_eq!(s.generation, gens);
+            assert!(s.evaluations >= last_evals);
+            // New evaluations per generation: at most P − E (elites are cached).
+            if gens > 0 {
+                assert!(s.evaluations - last_evals <= 16);
+            }
+            gens += 1;
+            last_evals = s.evaluations;
+            std::ops::ControlFlow::Continue(())
+        };
+        let r = ga
+            .run(&g, &f, &Budget::generations(10), 1, &mut observer)
+            .unwrap();
+        assert_eq!(r.generations, 10);
+        assert_eq!(r.evaluations, last_evals);
+        for i in &r.population {
+            assert_eq!(i.fitness, (f.0)(&i.chromosome));
+            i.chromosome.validate(&g).unwrap();
+        }
+    }
+}

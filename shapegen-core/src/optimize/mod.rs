@@ -1,0 +1,96 @@
+//! Optimizers over chromosomes: the genetic algorithm ([`Ga`]) and the
+//! baselines, all behind one [`Optimizer`] trait with the same [`Fitness`],
+//! [`Budget`] and [`Observer`].
+//!
+//! Runs are deterministic: every random decision comes from a stream derived
+//! from `(seed, generation, index, purpose)` (see [`crate::rng`]), fitness
+//! evaluation is pure, and sorts are stable, so the same seed gives the same
+//! result whatever the number of threads. Fitness is evaluated in parallel on
+//! the current rayon pool; run inside `ThreadPool::install` to choose threads.
+
+mod budget;
+mod fitness;
+mod ga;
+mod observer;
+mod progress;
+mod random;
+mod selection;
+
+use std::time::Duration;
+
+pub use budget::{Budget, StopReason};
+pub use fitness::{Fitness, FnFitness, is_valid_score};
+pub use ga::{Ga, GaParams};
+pub use observer::{GenerationStats, NoObserver, Observer};
+pub use random::RandomSearch;
+pub use selection::{Roulette, RouletteShift, rank_order, tournament};
+
+use crate::genome::Chromosome;
+use crate::graph::Graph;
+use crate::ops::OpError;
+
+/// A chromosome with its fitness.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Individual {
+    /// The chromosome.
+    pub chromosome: Chromosome,
+    /// Its fitness (non-finite = failed evaluation).
+    pub fitness: f64,
+}
+
+/// What a run produced.
+#[derive(Clone, Debug)]
+pub struct RunResult {
+    /// The best chromosome seen.
+    pub best: Chromosome,
+    /// Its fitness.
+    pub best_fitness: f64,
+    /// Fitness evaluations performed.
+    pub evaluations: u64,
+    /// Generations performed after the initial one.
+    pub generations: u64,
+    /// Wall-clock time.
+    pub elapsed: Duration,
+    /// Why the run ended.
+    pub stop: StopReason,
+    /// The final population, best first.
+    pub population: Vec<Individual>,
+}
+
+/// Why a run could not start.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum OptimizeError {
+    /// The parameters are unusable.
+    #[error("invalid optimizer parameters: {0}")]
+    Params(String),
+    /// The budget sets no limit.
+    #[error("the budget sets no limit: give generations, evaluations or wall time")]
+    UnboundedBudget,
+    /// The initial population could not be built.
+    #[error("cannot build the initial population: {0}")]
+    Init(#[from] OpError),
+}
+
+/// An optimization method over the chromosomes of a generator graph.
+pub trait Optimizer {
+    /// Short name of the method (`"ga"`, `"smc"`, ...).
+    fn name(&self) -> &'static str;
+
+    /// Maximizes `fitness` over chromosomes of `graph` until `budget` is spent,
+    /// calling `observer` after every generation.
+    fn run<F: Fitness>(
+        &self,
+        graph: &Graph,
+        fitness: &F,
+        budget: &Budget,
+        seed: u64,
+        observer: &mut dyn Observer,
+    ) -> Result<RunResult, OptimizeError>;
+}
+
+/// Stream purposes, so that streams for different decisions never coincide.
+pub(crate) mod purpose {
+    pub const INIT: u64 = 1;
+    pub const BREED: u64 = 2;
+}

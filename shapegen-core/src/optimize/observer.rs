@@ -1,0 +1,67 @@
+//! Watching a run: progress, logs, early stops.
+
+use std::ops::ControlFlow;
+use std::time::Duration;
+
+use crate::genome::Chromosome;
+
+/// What an optimizer reports after each generation.
+#[derive(Clone, Copy, Debug)]
+pub struct GenerationStats<'a> {
+    /// Generation number (0 = the initial population).
+    pub generation: u64,
+    /// Fitness evaluations so far.
+    pub evaluations: u64,
+    /// Wall-clock time since the run started.
+    pub elapsed: Duration,
+    /// Best fitness in the current population (NaN if no evaluation succeeded).
+    pub best: f64,
+    /// Mean fitness over the successful evaluations of the population.
+    pub mean: f64,
+    /// Standard deviation of those fitnesses.
+    pub std: f64,
+    /// Individuals whose evaluation failed (non-finite fitness).
+    pub failed: usize,
+    /// Best fitness seen since the run started.
+    pub best_so_far: f64,
+    /// The chromosome with [`best_so_far`](Self::best_so_far).
+    pub best_chromosome: &'a Chromosome,
+}
+
+/// Called once per generation; returning `ControlFlow::Break(())` stops the
+/// run cleanly (the result so far is returned).
+pub trait Observer {
+    /// Sees one generation's statistics.
+    fn generation(&mut self, stats: &GenerationStats<'_>) -> ControlFlow<()>;
+}
+
+impl<F: FnMut(&GenerationStats<'_>) -> ControlFlow<()>> Observer for F {
+    fn generation(&mut self, stats: &GenerationStats<'_>) -> ControlFlow<()> {
+        self(stats)
+    }
+}
+
+/// An observer that watches nothing.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NoObserver;
+
+impl Observer for NoObserver {
+    fn generation(&mut self, _: &GenerationStats<'_>) -> ControlFlow<()> {
+        ControlFlow::Continue(())
+    }
+}
+
+/// Mean and standard deviation of the finite values.
+pub(crate) fn mean_std(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (mut n, mut sum, mut sq) = (0usize, 0.0, 0.0);
+    for v in values.filter(|v| v.is_finite()) {
+        n += 1;
+        sum += v;
+        sq += v * v;
+    }
+    if n == 0 {
+        return (f64::NAN, f64::NAN);
+    }
+    let mean = sum / n as f64;
+    (mean, (sq / n as f64 - mean * mean).max(0.0).sqrt())
+}

@@ -1,0 +1,140 @@
+//! Bookkeeping shared by every optimizer: evaluation, counting, best-so-far,
+//! observer calls and budget checks.
+
+use std::ops::ControlFlow;
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use super::budget::{Budget, StopReason};
+use super::fitness::{Fitness, is_valid_score};
+use super::observer::{GenerationStats, Observer, mean_std};
+use super::selection::rank_order;
+use super::{Individual, RunResult};
+use crate::genome::Chromosome;
+
+/// A chromosome whose fitness may not be known yet.
+#[derive(Clone, Debug)]
+pub(crate) struct Candidate {
+    pub chromosome: Chromosome,
+    /// Known fitness (e.g. an unchanged copy of an evaluated parent).
+    pub fitness: Option<f64>,
+}
+
+impl Candidate {
+    pub fn new(chromosome: Chromosome) -> Self {
+        Self {
+            chromosome,
+            fitness: None,
+        }
+    }
+}
+
+/// Evaluates the candidates without a known fitness, in parallel.
+///
+/// Each rayon job owns one scratch, reused across its evaluations. Evaluation
+/// is pure, so the result does not depend on the number of threads.
+pub(crate) fn evaluate<F: Fitness>(
+    fitness: &F,
+    candidates: Vec<Candidate>,
+) -> (Vec<Individual>, u64) {
+    let fresh = candidates.iter().filter(|c| c.fitness.is_none()).count() as u64;
+    let individuals = candidates
+        .into_par_iter()
+        .map_init(
+            || fitness.scratch(),
+            |scratch, c| {
+                let f = c
+                    .fitness
+                    .unwrap_or_else(|| fitness.evaluate(&c.chromosome, scratch));
+                Individual {
+                    chromosome: c.chromosome,
+                    fitness: f,
+                }
+            },
+        )
+        .collect();
+    (individuals, fresh)
+}
+
+/// Counts, best-so-far, observer and budget of one run.
+pub(crate) struct Progress<'o> {
+    start: Instant,
+    budget: Budget,
+    observer: &'o mut dyn Observer,
+    pub evaluations: u64,
+    pub generation: u64,
+    best: Option<Individual>,
+}
+
+impl<'o> Progress<'o> {
+    pub fn new(budget: Budget, observer: &'o mut dyn Observer) -> Self {
+        Self {
+            start: Instant::now(),
+            budget,
+            observer,
+            evaluations: 0,
+            generation: 0,
+            best: None,
+        }
+    }
+
+    /// Records a finished generation (`population` need not be sorted) and
+    /// tells whether to stop.
+    pub fn generation_done(&mut self, population: &[Individual]) -> Option<StopReason> {
+        let best = population
+            .iter()
+            .min_by(|a, b| rank_order(a.fitness, b.fitness));
+        if let Some(b) = best {
+            let improves = match &self.best {
+                None => true,
+                Some(old) => rank_order(b.fitness, old.fitness).is_lt(),
+            };
+            if improves {
+                self.best = Some(b.clone());
+            }
+        }
+        let best_so_far = self.best.as_ref().expect("a population is never empty");
+        let (mean, std) = mean_std(population.iter().map(|i| i.fitness));
+        let elapsed = self.start.elapsed();
+        let stats = GenerationStats {
+            generation: self.generation,
+            evaluations: self.evaluations,
+            elapsed,
+            best: best.map_or(f64::NAN, |b| b.fitness),
+            mean,
+            std,
+            failed: population
+                .iter()
+                .filter(|i| !is_valid_score(i.fitness))
+                .count(),
+            best_so_far: best_so_far.fitness,
+            best_chromosome: &best_so_far.chromosome,
+        };
+        if let ControlFlow::Break(()) = self.observer.generation(&stats) {
+            return Some(StopReason::Observer);
+        }
+        let best_valid = if is_valid_score(best_so_far.fitness) {
+            best_so_far.fitness
+        } else {
+            f64::NEG_INFINITY
+        };
+        self.budget
+            .reached(self.generation, self.evaluations, elapsed, best_valid)
+    }
+
+    /// The result of the run.
+    pub fn finish(self, stop: StopReason, mut population: Vec<Individual>) -> RunResult {
+        population.sort_by(|a, b| rank_order(a.fitness, b.fitness));
+        let best = self.best.expect("a population is never empty");
+        RunResult {
+            best: best.chromosome,
+            best_fitness: best.fitness,
+            evaluations: self.evaluations,
+            generations: self.generation,
+            elapsed: self.start.elapsed(),
+            stop,
+            population,
+        }
+    }
+}

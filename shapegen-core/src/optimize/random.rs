@@ -1,0 +1,60 @@
+//! Random search: the baseline every method must beat.
+
+use rayon::prelude::*;
+
+use super::progress::{Candidate, Progress, evaluate};
+use super::selection::rank_order;
+use super::{Budget, Fitness, Observer, OptimizeError, Optimizer, RunResult, purpose};
+use crate::graph::Graph;
+use crate::ops::{InitLength, random_individual};
+use crate::rng::stream;
+
+/// Draws independent random individuals in batches and keeps the best.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RandomSearch {
+    /// Individuals per generation (batch).
+    pub batch: usize,
+    /// Length of the random individuals.
+    pub init: InitLength,
+}
+
+impl Optimizer for RandomSearch {
+    fn name(&self) -> &'static str {
+        "random"
+    }
+
+    fn run<F: Fitness>(
+        &self,
+        graph: &Graph,
+        fitness: &F,
+        budget: &Budget,
+        seed: u64,
+        observer: &mut dyn Observer,
+    ) -> Result<RunResult, OptimizeError> {
+        if self.batch == 0 {
+            return Err(OptimizeError::Params("batch must be at least 1".into()));
+        }
+        if budget.is_unbounded() {
+            return Err(OptimizeError::UnboundedBudget);
+        }
+        let mut progress = Progress::new(*budget, observer);
+        loop {
+            let g = progress.generation;
+            let batch: Vec<Candidate> = (0..self.batch as u64)
+                .into_par_iter()
+                .map(|i| {
+                    let mut rng = stream(seed, &[g, i, purpose::INIT]);
+                    random_individual(graph, &self.init, &mut rng).map(Candidate::new)
+                })
+                .collect::<Result<_, _>>()?;
+            let (mut population, fresh) = evaluate(fitness, batch);
+            progress.evaluations += fresh;
+            if let Some(stop) = progress.generation_done(&population) {
+                population.sort_by(|a, b| rank_order(a.fitness, b.fitness));
+                population.truncate(1);
+                return Ok(progress.finish(stop, population));
+            }
+            progress.generation += 1;
+        }
+    }
+}

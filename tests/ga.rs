@@ -1,0 +1,148 @@
+//! The GA on a problem with a known optimum: it gets there, beats random
+//! search at equal evaluations, and is deterministic whatever the thread count.
+
+use shapegen::demo::{BlocksTarget, blocks_graph};
+use shapegen::prelude::*;
+
+fn ga() -> Ga {
+    Ga::new(GaParams {
+        population: 100,
+        elites: 20,
+        init: InitLength::Around { l0: 20 },
+        ..GaParams::paper_spaceship()
+    })
+}
+
+fn pool(threads: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+}
+
+#[test]
+fn ga_reaches_the_optimum_and_beats_random_search() {
+    let graph = blocks_graph();
+    let fitness = BlocksTarget {
+        graph: &graph,
+        blocks: 20,
+    };
+    for seed in [1, 2, 3] {
+        let budget = Budget::evaluations(25_000);
+        let r = ga()
+            .run(&graph, &fitness, &budget, seed, &mut NoObserver)
+            .unwrap();
+        let random = RandomSearch {
+            batch: 100,
+            init: InitLength::Around { l0: 20 },
+        }
+        .run(
+            &graph,
+            &fitness,
+            &Budget::evaluations(r.evaluations),
+            seed,
+            &mut NoObserver,
+        )
+        .unwrap();
+        assert!(
+            r.best_fitness <= 1.0 + 1e-12,
+            "above the optimum: {}",
+            r.best_fitness
+        );
+        assert!(
+            r.best_fitness > 0.95,
+            "seed {seed}: GA reached only {}",
+            r.best_fitness
+        );
+        let blocks = r.best.genes(&graph).filter(|g| g.slot_count() == 2).count();
+        assert_eq!(blocks, 20, "seed {seed}: the optimum's structure");
+        assert!(
+            r.best_fitness > random.best_fitness + 0.3,
+            "seed {seed}: GA {} vs random search {} with {} evaluations",
+            r.best_fitness,
+            random.best_fitness,
+            random.evaluations
+        );
+        r.best.validate(&graph).unwrap();
+    }
+}
+
+#[test]
+fn same_seed_same_result_whatever_the_thread_count() {
+    let graph = blocks_graph();
+    let fitness = BlocksTarget {
+        graph: &graph,
+        blocks: 30,
+    };
+    let run = |threads| {
+        pool(threads).install(|| {
+            ga().run(
+                &graph,
+                &fitness,
+                &Budget::generations(40),
+                7,
+                &mut NoObserver,
+            )
+            .unwrap()
+        })
+    };
+    let one = run(1);
+    for threads in [2, 4] {
+        let many = run(threads);
+        assert_eq!(one.best_fitness.to_bits(), many.best_fitness.to_bits());
+        assert_eq!(one.best, many.best);
+        assert_eq!(one.evaluations, many.evaluations);
+        assert_eq!(one.population, many.population);
+    }
+    // A different seed gives a different run.
+    let other = pool(1).install(|| {
+        ga().run(
+            &graph,
+            &fitness,
+            &Budget::generations(40),
+            8,
+            &mut NoObserver,
+        )
+        .unwrap()
+    });
+    assert_ne!(one.best, other.best);
+}
+
+#[test]
+fn target_fitness_and_observer_stop_the_run() {
+    let graph = blocks_graph();
+    let fitness = BlocksTarget {
+        graph: &graph,
+        blocks: 10,
+    };
+    let r = ga()
+        .run(
+            &graph,
+            &fitness,
+            &Budget::generations(10_000).and_target_fitness(0.5),
+            1,
+            &mut NoObserver,
+        )
+        .unwrap();
+    assert_eq!(r.stop, StopReason::TargetFitness);
+    assert!(r.best_fitness >= 0.5);
+    let mut seen = 0;
+    let mut stop_at_3 = |s: &GenerationStats<'_>| {
+        seen += 1;
+        if s.generation == 3 {
+            std::ops::ControlFlow::Break(())
+        } else {
+            std::ops::ControlFlow::Continue(())
+        }
+    };
+    let r = ga()
+        .run(
+            &graph,
+            &fitness,
+            &Budget::generations(100),
+            1,
+            &mut stop_at_3,
+        )
+        .unwrap();
+    assert_eq!((r.stop, r.generations, seen), (StopReason::Observer, 3, 4));
+}
