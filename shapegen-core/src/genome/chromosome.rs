@@ -14,12 +14,33 @@ use crate::graph::{Graph, NodeId, NodeLayout};
 /// children, so a forward sweep always meets a parent before its children.
 /// All links are relative offsets, which makes a subtree position-independent.
 ///
+/// Beside the buffer, a chromosome keeps the positions of its genes in
+/// buffer order (one `u32` per gene). Without it every walk over the genes
+/// is a chain of dependent loads (a gene's size is known only once its node
+/// is read); with it, walks are independent loads and a uniformly random
+/// gene is O(1), which the operators' exact rejection samplers rely on.
+///
 /// A `Chromosome` only ever comes from the operators in [`crate::ops`] or from
 /// [`Chromosome::from_data`], which validates it: it always derives from its graph.
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+#[derive(Debug, PartialEq, Eq, Hash)]
 pub struct Chromosome {
     pub(crate) words: Vec<u32>,
-    pub(crate) len: u32,
+    /// Gene positions in buffer order.
+    pub(crate) index: Vec<u32>,
+}
+
+/// Words and genes a clone reserves beyond its length, so that the grow
+/// which usually follows a clone (a GA child) does not reallocate.
+const CLONE_SLACK: usize = 64;
+
+impl Clone for Chromosome {
+    fn clone(&self) -> Self {
+        let mut words = Vec::with_capacity(self.words.len() + CLONE_SLACK);
+        words.extend_from_slice(&self.words);
+        let mut index = Vec::with_capacity(self.index.len() + CLONE_SLACK / 8);
+        index.extend_from_slice(&self.index);
+        Self { words, index }
+    }
 }
 
 #[allow(clippy::len_without_is_empty)] // A chromosome always holds its root gene.
@@ -28,17 +49,34 @@ impl Chromosome {
     pub fn root<R: Rng + ?Sized>(graph: &Graph, rng: &mut R) -> Self {
         let mut c = Self {
             words: Vec::new(),
-            len: 0,
+            index: Vec::new(),
         };
         c.push_gene(graph, graph.start(), 0, 0, rng);
         c
+    }
+
+    /// A chromosome with no genes: only a target for `*_into` operators,
+    /// which overwrite it. It is not valid until then.
+    #[must_use]
+    pub const fn empty() -> Self {
+        Self {
+            words: Vec::new(),
+            index: Vec::new(),
+        }
     }
 
     /// Number of genes `L` (the root included).
     #[inline]
     #[must_use]
     pub fn len(&self) -> usize {
-        self.len as usize
+        self.index.len()
+    }
+
+    /// The positions of all genes, in buffer order (parents before children).
+    #[inline]
+    #[must_use]
+    pub fn positions(&self) -> &[u32] {
+        &self.index
     }
 
     /// The raw buffer.
@@ -74,7 +112,7 @@ impl Chromosome {
         Genes {
             chromosome: self,
             graph,
-            pos: 0,
+            positions: self.index.iter(),
         }
     }
 
@@ -172,7 +210,7 @@ impl Chromosome {
             self.words[parent as usize + word::SLOTS + slot as usize] =
                 word::link(parent as usize, pos);
         }
-        self.len += 1;
+        self.index.push(pos as u32);
         pos as u32
     }
 
@@ -332,7 +370,7 @@ impl<'a> Gene<'a> {
 pub struct Genes<'a> {
     chromosome: &'a Chromosome,
     graph: &'a Graph,
-    pos: usize,
+    positions: std::slice::Iter<'a, u32>,
 }
 
 impl<'a> Iterator for Genes<'a> {
@@ -340,12 +378,25 @@ impl<'a> Iterator for Genes<'a> {
 
     #[inline]
     fn next(&mut self) -> Option<Gene<'a>> {
-        if self.pos >= self.chromosome.words.len() {
-            return None;
-        }
-        let g = self.chromosome.gene(self.graph, self.pos as u32);
-        self.pos += g.words.len();
-        Some(g)
+        self.positions
+            .next()
+            .map(|&pos| self.chromosome.gene(self.graph, pos))
+    }
+
+    #[inline]
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        self.positions.size_hint()
+    }
+}
+
+impl ExactSizeIterator for Genes<'_> {}
+
+impl DoubleEndedIterator for Genes<'_> {
+    #[inline]
+    fn next_back(&mut self) -> Option<Self::Item> {
+        self.positions
+            .next_back()
+            .map(|&pos| self.chromosome.gene(self.graph, pos))
     }
 }
 

@@ -65,7 +65,8 @@ impl Chromosome {
                 expected_fp,
             });
         }
-        let genes = validate_words(graph, &data.words)?;
+        let index = validate_words(graph, &data.words)?;
+        let genes = index.len();
         if genes != data.genes {
             return Err(GenomeError::Count {
                 stored: data.genes,
@@ -74,7 +75,7 @@ impl Chromosome {
         }
         Ok(Self {
             words: data.words.clone(),
-            len: genes as u32,
+            index,
         })
     }
 }

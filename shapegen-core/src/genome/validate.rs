@@ -149,20 +149,19 @@ impl Chromosome {
     /// Because every non-root gene's parent precedes it and links are mutual,
     /// the genes form one tree rooted at position 0: no cycles, nothing unreachable.
     pub fn validate(&self, graph: &Graph) -> Result<(), GenomeError> {
-        validate_words(graph, &self.words)?;
-        let actual = self.genes(graph).count();
-        if actual != self.len() {
+        let starts = validate_words(graph, &self.words)?;
+        if starts != self.index {
             return Err(GenomeError::Count {
                 stored: self.len(),
-                actual,
+                actual: starts.len(),
             });
         }
         Ok(())
     }
 }
 
-/// Validates a raw buffer; on success it returns the number of genes.
-pub(crate) fn validate_words(graph: &Graph, words: &[u32]) -> Result<usize, GenomeError> {
+/// Validates a raw buffer; on success it returns the gene positions.
+pub(crate) fn validate_words(graph: &Graph, words: &[u32]) -> Result<Vec<u32>, GenomeError> {
     if words.is_empty() {
         return Err(GenomeError::Empty);
     }
@@ -193,12 +192,13 @@ pub(crate) fn validate_words(graph: &Graph, words: &[u32]) -> Result<usize, Geno
             });
         }
         depth_at[pos] = 0;
-        starts.push(pos);
+        starts.push(pos as u32);
         pos += size;
     }
     let limits = graph.limits();
     // Pass 2: links, nodes, parameters, depth.
     for &pos in &starts {
+        let pos = pos as usize;
         let w0 = words[pos];
         let node = word::node(w0);
         let layout = graph.layout(node);
@@ -290,5 +290,5 @@ pub(crate) fn validate_words(graph: &Graph, words: &[u32]) -> Result<usize, Geno
                 .map_or_else(|| "inf".to_string(), |m| m.to_string()),
         });
     }
-    Ok(starts.len())
+    Ok(starts)
 }

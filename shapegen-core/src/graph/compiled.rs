@@ -52,8 +52,22 @@ pub struct Graph {
     spec: GraphSpec,
     layouts: Vec<NodeLayout>,
     edges: Vec<Edge>,
+    /// Per edge: `p` in fixed point ([`WEIGHT_ONE`] = 1), the grow weight.
+    grow_weights: Vec<u64>,
+    /// Per edge: `1 − p` in fixed point, the cut weight.
+    cut_weights: Vec<u64>,
     start: NodeId,
+    max_slots: u32,
     fingerprint: u64,
+}
+
+/// Fixed-point one for operator weights: probabilities are used as integers
+/// `round(p · 2³²)`, so weight sums are exact and need no floating-point
+/// dependency chain (a relative error of at most 2⁻³³ per probability).
+pub const WEIGHT_ONE: u64 = 1 << 32;
+
+fn fixed(p: f64) -> u64 {
+    (p.clamp(0.0, 1.0) * WEIGHT_ONE as f64).round() as u64
 }
 
 impl Graph {
@@ -97,11 +111,17 @@ impl Graph {
         }
         let start = ids[spec.start.as_ref()];
         let fingerprint = fingerprint(&spec);
+        let layouts_max_slots = layouts.iter().map(|l| l.slots).max().unwrap_or(0);
+        let grow_weights = edges.iter().map(|e| fixed(e.p)).collect();
+        let cut_weights = edges.iter().map(|e| WEIGHT_ONE - fixed(e.p)).collect();
         Ok(Self {
             spec,
             layouts,
             edges,
+            grow_weights,
+            cut_weights,
             start,
+            max_slots: layouts_max_slots,
             fingerprint,
         })
     }
@@ -151,6 +171,34 @@ impl Graph {
     #[must_use]
     pub fn edges(&self) -> &[Edge] {
         &self.edges
+    }
+
+    /// Gene size in words of node `id` (hot-path shortcut for `layout(id).gene_words`).
+    #[inline]
+    #[must_use]
+    pub fn gene_words(&self, id: NodeId) -> usize {
+        self.layouts[id as usize].gene_words as usize
+    }
+
+    /// Per edge, the fixed-point grow weight `p` (see [`WEIGHT_ONE`]).
+    #[inline]
+    #[must_use]
+    pub fn grow_weights(&self) -> &[u64] {
+        &self.grow_weights
+    }
+
+    /// Per edge, the fixed-point cut weight `1 − p` (see [`WEIGHT_ONE`]).
+    #[inline]
+    #[must_use]
+    pub fn cut_weights(&self) -> &[u64] {
+        &self.cut_weights
+    }
+
+    /// The largest number of slots of any node.
+    #[inline]
+    #[must_use]
+    pub fn max_slots(&self) -> u32 {
+        self.max_slots
     }
 
     /// The edge of slot `slot` of node `node`.

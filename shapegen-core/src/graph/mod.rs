@@ -12,7 +12,7 @@ mod error;
 mod spec;
 
 pub use builder::{GraphBuilder, NodeBuilder};
-pub use compiled::{Edge, EdgeId, Graph, MAX_NODES, MAX_SLOTS, NodeId, NodeLayout};
+pub use compiled::{Edge, EdgeId, Graph, MAX_NODES, MAX_SLOTS, NodeId, NodeLayout, WEIGHT_ONE};
 pub use dist::{Dist, IntDist};
 pub use error::{GraphError, GraphErrors};
 pub use spec::{GraphSpec, Limits, NodeSpec, ParamDist, ParamKind, ParamSpec, SlotSpec};

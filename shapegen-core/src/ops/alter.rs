@@ -2,24 +2,24 @@
 
 use rand::{Rng, RngExt};
 
-use crate::genome::Chromosome;
+use crate::genome::{Chromosome, word};
 use crate::graph::Graph;
+
+use super::sample;
 
 /// Alters one gene (paper §5): picks a gene uniformly among those with
 /// parameters and redraws **all** of its parameters from the prior.
-/// Returns the gene's position, or `None` if no gene has parameters. O(G).
+/// Returns the gene's position, or `None` if no gene has parameters.
 pub fn alter<R: Rng + ?Sized>(graph: &Graph, c: &mut Chromosome, rng: &mut R) -> Option<u32> {
-    let has_params = |node| graph.layout(node).param_words > 0;
-    let n = c.genes(graph).filter(|g| has_params(g.node())).count();
-    if n == 0 {
-        return None;
-    }
-    let k = rng.random_range(0..n);
-    let pos = c
-        .genes(graph)
-        .filter(|g| has_params(g.node()))
-        .nth(k)?
-        .pos();
+    let has_params =
+        |pos: u32| u64::from(graph.layout(word::node(c.words[pos as usize])).param_words > 0);
+    let pos = sample::weighted(
+        rng,
+        1,
+        |rng: &mut R| Some(c.index[rng.random_range(0..c.len())]),
+        has_params,
+        |f| c.index.iter().for_each(|&p| f(p)),
+    )?;
     c.redraw_params(graph, pos, rng);
     Some(pos)
 }
@@ -31,7 +31,7 @@ pub fn alter_at<R: Rng + ?Sized>(
     pos: u32,
     rng: &mut R,
 ) -> Result<(), super::OpError> {
-    super::check_gene(graph, c, pos)?;
+    super::check_gene(c, pos)?;
     c.redraw_params(graph, pos, rng);
     Ok(())
 }

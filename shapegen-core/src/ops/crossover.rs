@@ -6,8 +6,10 @@ use serde::{Deserialize, Serialize};
 use crate::genome::{Chromosome, word};
 use crate::graph::Graph;
 
-use super::OpError;
 use super::cut::cut_unchecked;
+use super::sample;
+
+use super::OpError;
 
 /// Which connections of the second parent may receive the first parent's subtree.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -51,31 +53,41 @@ pub fn crossover<R: Rng + ?Sized>(
     config: &CrossoverConfig,
     rng: &mut R,
 ) -> Option<(Chromosome, Chromosome)> {
+    let (mut c1, mut c2) = (Chromosome::empty(), Chromosome::empty());
+    crossover_into(graph, a, b, config, rng, &mut c1, &mut c2).then_some((c1, c2))
+}
+
+/// [`crossover`] writing the children into `out1` and `out2`, reusing their
+/// allocations (their previous contents are discarded). Returns `false`, with
+/// the outputs' contents unspecified, when no compatible pair was found.
+pub fn crossover_into<R: Rng + ?Sized>(
+    graph: &Graph,
+    a: &Chromosome,
+    b: &Chromosome,
+    config: &CrossoverConfig,
+    rng: &mut R,
+    out1: &mut Chromosome,
+    out2: &mut Chromosome,
+) -> bool {
     if a.len() < 2 || b.len() < 2 {
-        return None;
+        return false;
     }
     for _ in 0..config.max_retries {
         // A connection is identified by its child gene: every non-root gene has exactly one.
-        let k = rng.random_range(1..a.len());
-        let Some(e1) = a.genes(graph).nth(k) else {
-            continue;
-        };
-        let key = connection_key(graph, a, e1.pos(), config.edge_match);
-        let matching = || {
-            b.genes(graph)
-                .skip(1)
-                .filter(|g| connection_key(graph, b, g.pos(), config.edge_match) == key)
-        };
-        let n = matching().count();
-        if n == 0 {
-            continue;
-        }
-        let e2 = matching().nth(rng.random_range(0..n))?.pos();
-        if let Some(children) = swap_if_allowed(graph, a, e1.pos(), b, e2) {
-            return Some(children);
+        let e1 = a.index[rng.random_range(1..a.len())];
+        let key = Key::of(a, e1, config.edge_match);
+        let e2 = sample::weighted(
+            rng,
+            1,
+            |rng: &mut R| Some(b.index[rng.random_range(1..b.len())]),
+            |e2| u64::from(Key::of(b, e2, config.edge_match) == key),
+            |f| b.index[1..].iter().for_each(|&e2| f(e2)),
+        );
+        if e2.is_some_and(|e2| swap_into(graph, a, e1, b, e2, out1, out2)) {
+            return true;
         }
     }
-    None
+    false
 }
 
 /// Swaps the subtree at `a_pos` of `a` with the subtree at `b_pos` of `b`.
@@ -90,107 +102,163 @@ pub fn crossover_at(
     b_pos: u32,
     edge_match: EdgeMatch,
 ) -> Result<(Chromosome, Chromosome), OpError> {
-    super::check_gene(graph, a, a_pos)?;
-    super::check_gene(graph, b, b_pos)?;
+    super::check_gene(a, a_pos)?;
+    super::check_gene(b, b_pos)?;
     if a_pos == 0 || b_pos == 0 {
         return Err(OpError::Root);
     }
-    if connection_key(graph, a, a_pos, edge_match) != connection_key(graph, b, b_pos, edge_match) {
+    if Key::of(a, a_pos, edge_match) != Key::of(b, b_pos, edge_match) {
         return Err(OpError::Incompatible);
     }
-    swap_if_allowed(graph, a, a_pos, b, b_pos).ok_or(OpError::Limits)
+    let (mut c1, mut c2) = (Chromosome::empty(), Chromosome::empty());
+    if swap_into(graph, a, a_pos, b, b_pos, &mut c1, &mut c2) {
+        Ok((c1, c2))
+    } else {
+        Err(OpError::Limits)
+    }
 }
 
-/// What must agree between two connections for them to be swapped.
-fn connection_key(graph: &Graph, c: &Chromosome, child: u32, edge_match: EdgeMatch) -> (u32, u32) {
-    let g = c.gene(graph, child);
-    match edge_match {
-        EdgeMatch::ChildType => (g.node() as u32, u32::MAX),
-        EdgeMatch::Strict => {
-            let parent = c.gene(graph, g.parent().unwrap_or(0)).node();
-            (graph.layout(parent).first_edge + g.slot_in_parent(), 0)
+/// What two connections (named by their non-root child genes) must share to be swapped.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Key {
+    /// Parent node and slot: the same generator-graph edge.
+    Edge(u16, u32),
+    /// The child's node.
+    Child(u16),
+}
+
+impl Key {
+    fn of(c: &Chromosome, child: u32, edge_match: EdgeMatch) -> Self {
+        let w = &c.words;
+        let child = child as usize;
+        match edge_match {
+            EdgeMatch::Strict => {
+                let parent = word::follow(child, w[child + word::PARENT]);
+                Self::Edge(word::node(w[parent]), word::slot(w[child]))
+            }
+            EdgeMatch::ChildType => Self::Child(word::node(w[child])),
         }
     }
 }
 
-fn swap_if_allowed(
+/// Writes the two children of swapping the subtrees at `a_pos` and `b_pos`
+/// into `out1` and `out2`; `false` if they would break the graph's limits
+/// (the outputs' contents are then unspecified).
+fn swap_into(
     graph: &Graph,
     a: &Chromosome,
     a_pos: u32,
     b: &Chromosome,
     b_pos: u32,
-) -> Option<(Chromosome, Chromosome)> {
+    out1: &mut Chromosome,
+    out2: &mut Chromosome,
+) -> bool {
     let limits = graph.limits();
     let len_a = a.len() - a.subtree_len(graph, a_pos) + b.subtree_len(graph, b_pos);
     let len_b = a.len() + b.len() - len_a;
     if !limits.allows_len(len_a as u32) || !limits.allows_len(len_b as u32) {
-        return None;
+        return false;
     }
-    let c1 = replace_subtree(graph, a, a_pos, b, b_pos);
-    let c2 = replace_subtree(graph, b, b_pos, a, a_pos);
-    if limits.max_depth.is_some()
-        && (!limits.allows_depth(c1.max_depth(graph)) || !limits.allows_depth(c2.max_depth(graph)))
-    {
-        return None;
-    }
-    Some((c1, c2))
+    splice_into(graph, a, a_pos, b, b_pos, out1);
+    splice_into(graph, b, b_pos, a, a_pos, out2);
+    !(limits.max_depth.is_some()
+        && (!limits.allows_depth(out1.max_depth(graph))
+            || !limits.allows_depth(out2.max_depth(graph))))
 }
 
-/// `cloneUntil(dst, at)` followed by `cloneFrom(src, from)` attached where `at` hung.
-fn replace_subtree(
+/// A copy of `dst` whose subtree at `at` is replaced by the subtree of `src`
+/// at `from` (paper Alg. 2: `cloneUntil(dst, at)` then `cloneFrom(src, from)`),
+/// written into `c` (its previous contents are discarded, its allocations reused).
+///
+/// Both halves are block copies followed by one in-place sweep, with no
+/// scratch memory: `dst` is copied whole and the subtree at `at` removed by
+/// the cut sweep; then `src`'s words from `from` on are appended and
+/// [`keep_subtree`] compacts them to the subtree of `from`, hung in the slot
+/// that `at` left empty.
+fn splice_into(
     graph: &Graph,
     dst: &Chromosome,
     at: u32,
     src: &Chromosome,
     from: u32,
-) -> Chromosome {
-    let mut c = dst.clone();
-    let cut = cut_unchecked(graph, &mut c, at);
-    append_subtree(graph, &mut c, cut.parent, cut.slot, src, from);
-    c
+    c: &mut Chromosome,
+) {
+    let from = from as usize;
+    let k_from = src.index.partition_point(|&p| (p as usize) < from);
+    c.words.clear();
+    c.words
+        .reserve(dst.words.len() + src.words.len() - from + SLACK_WORDS);
+    c.words.extend_from_slice(&dst.words);
+    c.index.clear();
+    c.index.reserve(dst.index.len() + src.index.len() - k_from);
+    c.index.extend_from_slice(&dst.index);
+    let hole = cut_unchecked(graph, c, at);
+    let base = c.words.len();
+    c.words.extend_from_slice(&src.words[from..]);
+    keep_subtree(
+        graph,
+        c,
+        base,
+        &src.index[k_from..],
+        from,
+        hole.parent as usize,
+        hole.slot,
+    );
 }
 
-/// Appends the subtree of `src` rooted at `root` to `dst`, hanging from slot
-/// `slot` of the gene at `parent`. One forward sweep of `src` from `root`:
-/// a gene is kept iff it is the root or its parent was kept. Each kept gene
-/// is copied word for word; only its parent link and its parent's slot are
-/// re-targeted (a child link copied from `src` is overwritten when that
-/// child, always kept, is appended).
-fn append_subtree(
+/// Extra words reserved by crossover children, so a following grow does not reallocate.
+const SLACK_WORDS: usize = 64;
+
+/// In-place sweep over the block `c.words[base..]`, a verbatim copy of
+/// another chromosome's words from its gene at `src_from` on (`src_positions`
+/// are that chromosome's gene positions from `src_from`): keeps the block's
+/// first gene and every gene whose parent was kept, compacting them to
+/// `base`, and hangs the first gene in slot `slot` of the gene at `parent`
+/// (its slot index may differ from the one it had, under `EdgeMatch::ChildType`).
+///
+/// A kept gene flags its children kept and writes its new position into
+/// their parent links (they lie ahead, not yet overwritten), so each gene
+/// knows its fate and its parent's new position when the sweep reaches it.
+fn keep_subtree(
     graph: &Graph,
-    dst: &mut Chromosome,
-    parent: u32,
+    c: &mut Chromosome,
+    base: usize,
+    src_positions: &[u32],
+    src_from: usize,
+    parent: usize,
     slot: u32,
-    src: &Chromosome,
-    root: u32,
 ) {
-    const DROPPED: u32 = u32::MAX;
-    let root = root as usize;
-    let sw = &src.words;
-    // New position of each kept source gene, indexed by (source position − root).
-    let mut new_pos = vec![DROPPED; sw.len() - root];
-    let mut r = root;
-    let mut added = 0u32;
-    while r < sw.len() {
-        let w0 = sw[r];
-        let size = graph.layout(word::node(w0)).gene_words as usize;
-        let new_parent = if r == root {
-            Some(parent as usize)
-        } else {
-            let p = word::follow(r, sw[r + word::PARENT]);
-            (p >= root && new_pos[p - root] != DROPPED).then(|| new_pos[p - root] as usize)
-        };
-        if let Some(np) = new_parent {
-            let w = dst.words.len();
-            new_pos[r - root] = w as u32;
-            dst.words.extend_from_slice(&sw[r..r + size]);
-            let s = if r == root { slot } else { word::slot(w0) };
-            dst.words[w] = word::header(word::node(w0), s);
-            dst.words[w + word::PARENT] = word::link(w, np);
-            dst.words[np + word::SLOTS + s as usize] = word::link(np, w);
-            added += 1;
+    let Chromosome { words, index } = c;
+    words[base] |= word::KEEP;
+    let mut w = base;
+    for &sp in src_positions {
+        let r = sp as usize - src_from + base;
+        let w0 = words[r];
+        if w0 & word::KEEP == 0 {
+            continue;
         }
-        r += size;
+        let layout = graph.layout(word::node(w0));
+        let (new_parent, s) = if r == base {
+            (parent, slot)
+        } else {
+            (word::follow(r, words[r + word::PARENT]), word::slot(w0))
+        };
+        for j in r + word::SLOTS..r + word::SLOTS + layout.slots as usize {
+            if words[j] != 0 {
+                let child = word::follow(r, words[j]);
+                words[child] |= word::KEEP;
+                words[child + word::PARENT] = word::link(child, w);
+            }
+        }
+        let size = layout.gene_words as usize;
+        if w < r {
+            words.copy_within(r..r + size, w);
+        }
+        words[w] = word::header(word::node(w0), s);
+        words[w + word::PARENT] = word::link(w, new_parent);
+        words[new_parent + word::SLOTS + s as usize] = word::link(new_parent, w);
+        index.push(w as u32);
+        w += size;
     }
-    dst.len += added;
+    words.truncate(w);
 }

@@ -3,9 +3,10 @@
 use rand::{Rng, RngExt};
 
 use crate::genome::{Chromosome, word};
-use crate::graph::Graph;
+use crate::graph::{Graph, WEIGHT_ONE};
 
 use super::OpError;
+use super::sample;
 
 /// What a cut did.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -18,71 +19,40 @@ pub struct Cut {
     pub removed: usize,
 }
 
-/// How many times [`cut`] redraws a victim whose removal would go below `L_min`
-/// before it switches to an exact search among the allowed victims.
-const REJECTION_TRIES: usize = 8;
-
 /// Cuts one subtree (paper §5): over all non-root genes `i`, picks one with
 /// probability `(1 − p(parent(i), slot(i))) / Σ (1 − p)` and removes it with
-/// its subtree in one O(G) sweep. Children on `p = 1` slots are never cut.
+/// its subtree in one sweep. Children on `p = 1` slots are never cut.
 ///
 /// Victims whose removal would leave fewer than `L_min` genes are excluded
 /// (the choice is then proportional to `1 − p` among the rest). `None` when
-/// nothing can be cut.
+/// nothing can be cut. The choice is exact and usually O(1) (see
+/// `sample::weighted`); the sweep is O(G) from the victim on.
 pub fn cut<R: Rng + ?Sized>(graph: &Graph, c: &mut Chromosome, rng: &mut R) -> Option<Cut> {
-    let weight = |pos: u32| -> f64 {
-        let g = c.gene(graph, pos);
-        match g.parent() {
-            None => 0.0,
-            Some(p) => 1.0 - graph.edge(c.gene(graph, p).node(), g.slot_in_parent()).p,
-        }
-    };
-    let total: f64 = c.genes(graph).map(|g| weight(g.pos())).sum();
-    if total <= 0.0 {
+    if c.len() < 2 {
         return None;
     }
     let min_len = graph.limits().min_len as usize;
-    let pick = |rng: &mut R, allowed: &dyn Fn(u32) -> bool, total: f64| -> Option<u32> {
-        let mut u = rng.random::<f64>() * total;
-        let mut last = None;
-        for g in c.genes(graph) {
-            let w = weight(g.pos());
-            if w <= 0.0 || !allowed(g.pos()) {
-                continue;
-            }
-            last = Some(g.pos());
-            if u < w {
-                break;
-            }
-            u -= w;
-        }
-        last
+    let weights = graph.cut_weights();
+    let cw = |child: u32| {
+        let pos = child as usize;
+        let parent = word::follow(pos, c.words[pos + word::PARENT]);
+        let layout = graph.layout(word::node(c.words[parent]));
+        weights[(layout.first_edge + word::slot(c.words[pos])) as usize]
     };
-    let mut victim = None;
-    for _ in 0..REJECTION_TRIES {
-        let v = pick(rng, &|_| true, total)?;
-        if min_len <= 1 || c.len() - c.subtree_len(graph, v) >= min_len {
-            victim = Some(v);
-            break;
-        }
-    }
-    let victim = match victim {
-        Some(v) => v,
-        None => {
-            // Exact fallback: restrict to victims whose subtree is small enough.
-            let sizes = subtree_sizes(graph, c);
-            let allowed = |pos: u32| c.len() - sizes[pos as usize] as usize >= min_len;
-            let total: f64 = c
-                .genes(graph)
-                .filter(|g| allowed(g.pos()))
-                .map(|g| weight(g.pos()))
-                .sum();
-            if total <= 0.0 {
-                return None;
+    let allowed = |child: u32| min_len <= 1 || c.len() - c.subtree_len(graph, child) >= min_len;
+    let victim = sample::weighted(
+        rng,
+        WEIGHT_ONE,
+        |rng: &mut R| Some(c.index[rng.random_range(1..c.len())]),
+        |child| {
+            if cw(child) > 0 && allowed(child) {
+                cw(child)
+            } else {
+                0
             }
-            pick(rng, &allowed, total)?
-        }
-    };
+        },
+        |f| c.index[1..].iter().for_each(|&child| f(child)),
+    )?;
     Some(cut_unchecked(graph, c, victim))
 }
 
@@ -91,7 +61,7 @@ pub fn cut<R: Rng + ?Sized>(graph: &Graph, c: &mut Chromosome, rng: &mut R) -> O
 /// Fails if `pos` is not a non-root gene position of `c`, or if the result
 /// would have fewer than `L_min` genes.
 pub fn cut_at(graph: &Graph, c: &mut Chromosome, pos: u32) -> Result<Cut, OpError> {
-    super::check_gene(graph, c, pos)?;
+    super::check_gene(c, pos)?;
     if pos == 0 {
         return Err(OpError::Root);
     }
@@ -99,19 +69,6 @@ pub fn cut_at(graph: &Graph, c: &mut Chromosome, pos: u32) -> Result<Cut, OpErro
         return Err(OpError::Limits);
     }
     Ok(cut_unchecked(graph, c, pos))
-}
-
-/// Subtree size per gene position (indexed by word position).
-fn subtree_sizes(graph: &Graph, c: &Chromosome) -> Vec<u32> {
-    let mut sizes = vec![0u32; c.words().len()];
-    let positions: Vec<u32> = c.genes(graph).map(|g| g.pos()).collect();
-    for &pos in positions.iter().rev() {
-        sizes[pos as usize] += 1;
-        if let Some(p) = c.gene(graph, pos).parent() {
-            sizes[p as usize] += sizes[pos as usize];
-        }
-    }
-    sizes
 }
 
 /// The paper's cut (Fig. 5c): one forward sweep from the victim that drops
@@ -122,18 +79,21 @@ fn subtree_sizes(graph: &Graph, c: &Chromosome) -> Vec<u32> {
 /// and have not been overwritten yet), and a dead gene flags its children
 /// dead the same way. A survivor therefore always finds its parent's new
 /// position through its own parent link, and patches the parent's slot.
+/// The gene index is compacted in the same sweep.
 pub(crate) fn cut_unchecked(graph: &Graph, c: &mut Chromosome, victim: u32) -> Cut {
-    let words = &mut c.words;
+    let Chromosome { words, index } = c;
+    let first = index.partition_point(|&p| p < victim);
     let victim = victim as usize;
     let parent = word::follow(victim, words[victim + word::PARENT]);
     let slot = word::slot(words[victim]);
     words[parent + word::SLOTS + slot as usize] = 0;
     words[victim] |= word::DEAD;
-    let (mut r, mut w, mut removed) = (victim, victim, 0usize);
-    while r < words.len() {
+    let mut w = victim;
+    let mut kept = first;
+    for k in first..index.len() {
+        let r = index[k] as usize;
         let w0 = words[r];
         let layout = graph.layout(word::node(w0));
-        let size = layout.gene_words as usize;
         let slots = r + word::SLOTS..r + word::SLOTS + layout.slots as usize;
         if w0 & word::DEAD != 0 {
             for j in slots {
@@ -142,7 +102,6 @@ pub(crate) fn cut_unchecked(graph: &Graph, c: &mut Chromosome, victim: u32) -> C
                     words[child] |= word::DEAD;
                 }
             }
-            removed += 1;
         } else {
             let new_parent = word::follow(r, words[r + word::PARENT]);
             for j in slots {
@@ -151,17 +110,19 @@ pub(crate) fn cut_unchecked(graph: &Graph, c: &mut Chromosome, victim: u32) -> C
                     words[child + word::PARENT] = word::link(child, w);
                 }
             }
-            if w != r {
-                words.copy_within(r..r + size, w);
-            }
+            // w < r here: the victim lies before.
+            let size = layout.gene_words as usize;
+            words.copy_within(r..r + size, w);
             words[w + word::PARENT] = word::link(w, new_parent);
             words[new_parent + word::SLOTS + word::slot(w0) as usize] = word::link(new_parent, w);
+            index[kept] = w as u32;
+            kept += 1;
             w += size;
         }
-        r += size;
     }
+    let removed = index.len() - kept;
     words.truncate(w);
-    c.len -= removed as u32;
+    index.truncate(kept);
     Cut {
         parent: parent as u32,
         slot,

@@ -3,9 +3,10 @@
 use rand::{Rng, RngExt};
 
 use crate::genome::{Chromosome, word};
-use crate::graph::{EdgeId, Graph};
+use crate::graph::{EdgeId, Graph, WEIGHT_ONE};
 
 use super::OpError;
+use super::sample;
 
 /// What a grow did.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -25,49 +26,47 @@ pub struct Grown {
 ///
 /// Pairs whose child would exceed the graph's `max_depth` are not candidates;
 /// if the result would reach `L_max`, or there is no candidate, nothing
-/// happens and `None` is returned. O(G) (plus O(depth) per open slot when
-/// `max_depth` is set).
+/// happens and `None` is returned. The choice is exact and usually O(1)
+/// (rejection from uniform (gene, slot) proposals, with an exact O(G)
+/// sweep as fallback).
 pub fn grow<R: Rng + ?Sized>(graph: &Graph, c: &mut Chromosome, rng: &mut R) -> Option<Grown> {
     let limits = graph.limits();
     if limits.max_len.is_some_and(|m| c.len() as u32 + 1 >= m) {
         return None;
     }
-    // Weight of a gene's open slots, or 0 if its children would be too deep.
-    let weight = |g: &crate::genome::Gene<'_>| -> f64 {
-        let w: f64 = (0..g.slot_count())
-            .filter(|&j| g.child(j).is_none())
-            .map(|j| graph.edge(g.node(), j as u32).p)
-            .sum();
-        if w > 0.0 && limits.allows_depth(c.depth(g.pos()) + 1) {
+    let max_slots = graph.max_slots();
+    let weights = graph.grow_weights();
+    let words = &c.words;
+    let weight = |(pos, slot): (u32, u32)| -> u64 {
+        let layout = graph.layout(word::node(words[pos as usize]));
+        if slot >= layout.slots || words[(pos + word::SLOTS as u32 + slot) as usize] != 0 {
+            return 0;
+        }
+        let w = weights[(layout.first_edge + slot) as usize];
+        if w > 0 && (limits.max_depth.is_none() || limits.allows_depth(c.depth(pos) + 1)) {
             w
         } else {
-            0.0
+            0
         }
     };
-    let total: f64 = c.genes(graph).map(|g| weight(&g)).sum();
-    if total <= 0.0 {
-        return None;
-    }
-    let mut u = rng.random::<f64>() * total;
-    let mut last = None;
-    'genes: for g in c.genes(graph) {
-        if weight(&g) == 0.0 {
-            continue;
-        }
-        for j in 0..g.slot_count() {
-            let p = graph.edge(g.node(), j as u32).p;
-            if g.child(j).is_some() || p <= 0.0 {
-                continue;
+    let (parent, slot) = sample::weighted(
+        rng,
+        if max_slots == 0 { 0 } else { WEIGHT_ONE },
+        |rng: &mut R| {
+            Some((
+                c.index[rng.random_range(0..c.len())],
+                rng.random_range(0..max_slots),
+            ))
+        },
+        weight,
+        |f| {
+            for &pos in &c.index {
+                for j in 0..graph.layout(word::node(words[pos as usize])).slots {
+                    f((pos, j));
+                }
             }
-            last = Some((g.pos(), j as u32));
-            if u < p {
-                break 'genes;
-            }
-            u -= p;
-        }
-    }
-    // `last` is the chosen pair, or the final candidate if rounding ran past the end.
-    let (parent, slot) = last?;
+        },
+    )?;
     Some(grow_unchecked(graph, c, parent, slot, rng))
 }
 
@@ -82,7 +81,7 @@ pub fn grow_at<R: Rng + ?Sized>(
     slot: u32,
     rng: &mut R,
 ) -> Result<Grown, OpError> {
-    super::check_gene(graph, c, parent)?;
+    super::check_gene(c, parent)?;
     let g = c.gene(graph, parent);
     if slot as usize >= g.slot_count() {
         return Err(OpError::NoSuchSlot { pos: parent, slot });
@@ -126,8 +125,8 @@ pub(crate) fn grow_unchecked<R: Rng + ?Sized>(
 pub struct Grower {
     /// Per edge: the (gene position, depth) pairs whose slot on that edge is empty.
     open: Vec<Vec<(u32, u32)>>,
-    /// Per edge: `p`.
-    p: Vec<f64>,
+    /// Per edge: the fixed-point grow weight `p`.
+    p: Vec<u64>,
 }
 
 impl Grower {
@@ -143,7 +142,7 @@ impl Grower {
         self.open.resize_with(edges.len(), Vec::new);
         self.open.iter_mut().for_each(Vec::clear);
         self.p.clear();
-        self.p.extend(edges.iter().map(|e| e.p));
+        self.p.extend_from_slice(graph.grow_weights());
         let mut depth_at = vec![0u32; c.words().len()];
         for g in c.genes(graph) {
             let depth = g.parent().map_or(0, |p| depth_at[p as usize] + 1);
@@ -160,7 +159,7 @@ impl Grower {
         let first = graph.layout(g.node()).first_edge;
         for j in 0..g.slot_count() {
             let e = (first + j as EdgeId) as usize;
-            if g.child(j).is_none() && self.p[e] > 0.0 {
+            if g.child(j).is_none() && self.p[e] > 0 {
                 self.open[e].push((pos, depth));
             }
         }
@@ -182,23 +181,18 @@ impl Grower {
         {
             return None;
         }
-        let total: f64 = self
-            .open
-            .iter()
-            .zip(&self.p)
-            .map(|(o, p)| o.len() as f64 * p)
-            .sum();
-        if total <= 0.0 {
+        let total = self.open_weight();
+        if total == 0 {
             return None;
         }
-        let mut u = rng.random::<f64>() * total;
+        let mut u = rng.random_range(0..total);
         let mut chosen = None;
         for (e, (o, &p)) in self.open.iter().zip(&self.p).enumerate() {
             if o.is_empty() {
                 continue;
             }
             chosen = Some(e);
-            let w = o.len() as f64 * p;
+            let w = o.len() as u64 * p;
             if u < w {
                 break;
             }
@@ -213,13 +207,13 @@ impl Grower {
         Some(grown)
     }
 
-    /// Total weight `Σ p` of the open slots.
+    /// Total fixed-point weight `Σ p` of the open slots (see [`WEIGHT_ONE`]).
     #[must_use]
-    pub fn open_weight(&self) -> f64 {
+    pub fn open_weight(&self) -> u64 {
         self.open
             .iter()
             .zip(&self.p)
-            .map(|(o, p)| o.len() as f64 * p)
+            .map(|(o, &p)| o.len() as u64 * p)
             .sum()
     }
 }

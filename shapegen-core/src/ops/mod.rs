@@ -12,9 +12,10 @@ mod crossover;
 mod cut;
 mod grow;
 mod init;
+mod sample;
 
 pub use alter::{alter, alter_at};
-pub use crossover::{CrossoverConfig, EdgeMatch, crossover, crossover_at};
+pub use crossover::{CrossoverConfig, EdgeMatch, crossover, crossover_at, crossover_into};
 pub use cut::{Cut, cut, cut_at};
 pub use grow::{Grower, Grown, grow, grow_at};
 pub use init::{InitLength, random_individual, random_individual_with};
@@ -69,12 +70,11 @@ pub enum OpError {
     },
 }
 
-/// Checks that `pos` is a gene position of `c`. O(G).
-fn check_gene(graph: &Graph, c: &Chromosome, pos: u32) -> Result<(), OpError> {
-    if c.genes(graph).any(|g| g.pos() == pos) {
-        Ok(())
-    } else {
-        Err(OpError::NotAGene(pos))
+/// Checks that `pos` is a gene position of `c`. O(log G).
+fn check_gene(c: &Chromosome, pos: u32) -> Result<(), OpError> {
+    match c.positions().binary_search(&pos) {
+        Ok(_) => Ok(()),
+        Err(_) => Err(OpError::NotAGene(pos)),
     }
 }
 
