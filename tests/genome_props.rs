@@ -179,7 +179,7 @@ proptest! {
         }
         for step in 0..OPS_PER_CASE {
             random_op(&graph, &mut pop, &mut rng)?;
-            if step % 97 == 0 {
+            if step.is_multiple_of(97) {
                 // Occasionally replace an individual by a fresh one.
                 let k = rng.random_range(0..pop.len());
                 if let Ok(c) = random_individual(&graph, &init, &mut rng) {

@@ -234,7 +234,7 @@ impl Graph {
     }
 }
 
-fn check(spec: &GraphSpec) -> Vec<GraphError> {
+pub(super) fn check(spec: &GraphSpec) -> Vec<GraphError> {
     let mut errors = Vec::new();
     let nodes = &spec.nodes;
     if nodes.is_empty() {
@@ -344,12 +344,15 @@ fn check(spec: &GraphSpec) -> Vec<GraphError> {
             reason: "min_len must be at least 1 (the root gene)".into(),
         });
     }
-    if let Some(max) = l.max_len {
-        if max <= l.min_len {
-            errors.push(GraphError::BadLimits {
-                reason: format!("max_len ({max}) must exceed min_len ({}): lengths satisfy min_len <= L < max_len", l.min_len),
-            });
-        }
+    if let Some(max) = l.max_len
+        && max <= l.min_len
+    {
+        errors.push(GraphError::BadLimits {
+            reason: format!(
+                "max_len ({max}) must exceed min_len ({}): lengths satisfy min_len <= L < max_len",
+                l.min_len
+            ),
+        });
     }
     errors
 }

@@ -1,6 +1,5 @@
 //! Parameter distributions: sampling, log-density and support.
 
-use std::borrow::Cow;
 use std::f64::consts::PI;
 
 use rand::{Rng, RngExt};
@@ -239,7 +238,7 @@ pub(crate) fn choice_problem(weights: &[f64]) -> Option<&'static str> {
 }
 
 /// Draws an index with probability proportional to `weights` (which must be valid).
-pub(crate) fn sample_choice<R: Rng + ?Sized>(rng: &mut R, weights: &Cow<'static, [f64]>) -> u32 {
+pub(crate) fn sample_choice<R: Rng + ?Sized>(rng: &mut R, weights: &[f64]) -> u32 {
     let total: f64 = weights.iter().sum();
     let mut u = rng.random::<f64>() * total;
     let mut last_positive = 0;
@@ -323,6 +322,7 @@ mod tests {
     use super::*;
     use rand::SeedableRng;
     use rand_pcg::Pcg64;
+    use std::borrow::Cow;
 
     #[test]
     fn uniform_samples_stay_in_closed_range() {

@@ -292,6 +292,19 @@ impl GraphSpec {
         }
     }
 
+    /// Checks the declaration, reporting every problem at once: duplicate
+    /// names, unknown slot targets, probabilities outside `[0, 1]`, empty or
+    /// inverted supports, a missing or unknown start node, unreachable nodes
+    /// and contradictory limits. [`Graph::new`](super::Graph::new) runs the same checks.
+    pub fn validate(&self) -> Result<(), super::GraphErrors> {
+        let errors = super::compiled::check(self);
+        if errors.is_empty() {
+            Ok(())
+        } else {
+            Err(super::GraphErrors(errors))
+        }
+    }
+
     /// The same graph with other limits (e.g. an experiment's `L_min`, `L_max`, `max_depth`).
     #[must_use]
     pub fn with_limits(mut self, limits: Limits) -> Self {
