@@ -14,3 +14,6 @@ pub(crate) mod word;
 pub use chromosome::{Chromosome, Gene, Genes, Subtree};
 pub use data::{ChromosomeData, FORMAT_VERSION};
 pub use validate::GenomeError;
+
+#[cfg(test)]
+mod tests;
