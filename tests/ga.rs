@@ -74,37 +74,23 @@ fn same_seed_same_result_whatever_the_thread_count() {
         graph: &graph,
         blocks: 30,
     };
-    let run = |threads| {
+    let run = |threads, seed| {
+        let budget = Budget::generations(40);
         pool(threads).install(|| {
-            ga().run(
-                &graph,
-                &fitness,
-                &Budget::generations(40),
-                7,
-                &mut NoObserver,
-            )
-            .unwrap()
+            ga().run(&graph, &fitness, &budget, seed, &mut NoObserver)
+                .unwrap()
         })
     };
-    let one = run(1);
+    let one = run(1, 7);
     for threads in [2, 4] {
-        let many = run(threads);
+        let many = run(threads, 7);
         assert_eq!(one.best_fitness.to_bits(), many.best_fitness.to_bits());
         assert_eq!(one.best, many.best);
         assert_eq!(one.evaluations, many.evaluations);
         assert_eq!(one.population, many.population);
     }
     // A different seed gives a different run.
-    let other = pool(1).install(|| {
-        ga().run(
-            &graph,
-            &fitness,
-            &Budget::generations(40),
-            8,
-            &mut NoObserver,
-        )
-        .unwrap()
-    });
+    let other = run(1, 8);
     assert_ne!(one.best, other.best);
 }
 

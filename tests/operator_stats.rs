@@ -2,7 +2,7 @@
 //! formulas (chi-square with fixed seeds), and p = 0 slots are never grown.
 
 use shapegen::prelude::*;
-use shapegen::rng::stream;
+use shapegen::rng::{ShapeRng, stream};
 
 /// Chi-square critical values at significance 0.001, by degrees of freedom.
 const CHI2_999: [f64; 11] = [
@@ -58,8 +58,12 @@ fn fixture(graph: &Graph) -> (Chromosome, [u32; 7]) {
     (c, [0, b1, b2, t1, t2, w1, w2])
 }
 
-#[test]
-fn grow_frequencies_match_p_over_sum_p() {
+/// Grows the fixture 60,000 times with `grow_once` and checks that the
+/// chosen (gene, slot) frequencies are `p / Σ p` and that p = 0 slots never appear.
+fn check_grow_frequencies(
+    seed: u64,
+    mut grow_once: impl FnMut(&Graph, &mut Chromosome, &mut ShapeRng) -> Grown,
+) {
     let graph = graph();
     let (c, [_, b1, b2, _, t2, _, w2]) = fixture(&graph);
     // Open slots with p > 0: B1.wing (1/3), B2.next, B2.top (1/3 each),
@@ -67,45 +71,40 @@ fn grow_frequencies_match_p_over_sum_p() {
     let cases = [(b1, 1), (b2, 0), (b2, 2), (t2, 0), (w2, 0)];
     let weights = [1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0, 1.0, 0.9];
     let mut counts = [0u64; 5];
-    let mut rng = stream(42, &[]);
+    let mut rng = stream(seed, &[]);
     for _ in 0..60_000 {
         let mut x = c.clone();
-        let g = grow(&graph, &mut x, &mut rng).expect("open slots exist");
+        let g = grow_once(&graph, &mut x, &mut rng);
         let k = cases.iter().position(|&s| s == (g.parent, g.slot));
         let k = k
             .unwrap_or_else(|| panic!("grew an unexpected slot {:?} (p = 0?)", (g.parent, g.slot)));
         counts[k] += 1;
     }
-    let chi2 = chi_square(&counts, &weights);
+    assert_fits(&counts, &weights);
+}
+
+fn assert_fits(counts: &[u64], weights: &[f64]) {
+    let chi2 = chi_square(counts, weights);
     assert!(
-        chi2 < CHI2_999[cases.len() - 1],
+        chi2 < CHI2_999[counts.len() - 1],
         "chi2 = {chi2}, counts {counts:?}"
     );
 }
 
 #[test]
+fn grow_frequencies_match_p_over_sum_p() {
+    check_grow_frequencies(42, |graph, c, rng| {
+        grow(graph, c, rng).expect("open slots exist")
+    });
+}
+
+#[test]
 fn grower_frequencies_match_p_over_sum_p() {
-    let graph = graph();
-    let (c, [_, b1, b2, _, t2, _, w2]) = fixture(&graph);
-    let cases = [(b1, 1), (b2, 0), (b2, 2), (t2, 0), (w2, 0)];
-    let weights = [1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0, 1.0, 0.9];
-    let mut counts = [0u64; 5];
-    let mut rng = stream(43, &[]);
     let mut grower = Grower::new();
-    for _ in 0..60_000 {
-        let mut x = c.clone();
-        grower.reset(&graph, &x);
-        let g = grower.grow(&graph, &mut x, &mut rng).unwrap();
-        counts[cases
-            .iter()
-            .position(|&s| s == (g.parent, g.slot))
-            .expect("p > 0 slot")] += 1;
-    }
-    let chi2 = chi_square(&counts, &weights);
-    assert!(
-        chi2 < CHI2_999[cases.len() - 1],
-        "chi2 = {chi2}, counts {counts:?}"
-    );
+    check_grow_frequencies(43, |graph, c, rng| {
+        grower.reset(graph, c);
+        grower.grow(graph, c, rng).expect("open slots exist")
+    });
 }
 
 #[test]
@@ -125,11 +124,7 @@ fn cut_frequencies_match_one_minus_p() {
         assert!(victim != b1 && victim != t2, "a p = 1 child was cut");
         counts[victims.iter().position(|&v| v == victim).unwrap()] += 1;
     }
-    let chi2 = chi_square(&counts, &weights);
-    assert!(
-        chi2 < CHI2_999[victims.len() - 1],
-        "chi2 = {chi2}, counts {counts:?}"
-    );
+    assert_fits(&counts, &weights);
 }
 
 #[test]
@@ -161,6 +156,5 @@ fn tournament_and_split_draw_shapes() {
     for _ in 0..30_000 {
         counts[split.draw(&mut rng) as usize] += 1;
     }
-    let chi2 = chi_square(&counts, &[13.5, 13.5, 3.0]);
-    assert!(chi2 < CHI2_999[2], "chi2 = {chi2}, counts {counts:?}");
+    assert_fits(&counts, &[13.5, 13.5, 3.0]);
 }

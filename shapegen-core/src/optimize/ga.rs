@@ -233,10 +233,7 @@ impl Optimizer for Ga {
         if !problems.is_empty() {
             return Err(OptimizeError::Params(problems.join("; ")));
         }
-        if budget.is_unbounded() {
-            return Err(OptimizeError::UnboundedBudget);
-        }
-        let mut progress = Progress::new(*budget, observer);
+        let mut progress = Progress::new(*budget, observer)?;
         let (mut population, fresh) = evaluate(fitness, self.initial_population(graph, seed)?);
         progress.evaluations += fresh;
         let mut wheel = Roulette::default();

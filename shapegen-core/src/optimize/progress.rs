@@ -10,7 +10,7 @@ use super::budget::{Budget, StopReason};
 use super::fitness::{Fitness, is_valid_score};
 use super::observer::{GenerationStats, Observer, mean_std};
 use super::selection::rank_order;
-use super::{Individual, RunResult};
+use super::{Individual, OptimizeError, RunResult};
 use crate::genome::Chromosome;
 
 /// A chromosome whose fitness may not be known yet.
@@ -68,15 +68,19 @@ pub(crate) struct Progress<'o> {
 }
 
 impl<'o> Progress<'o> {
-    pub fn new(budget: Budget, observer: &'o mut dyn Observer) -> Self {
-        Self {
+    /// Starts the clock; refuses a budget without limits.
+    pub fn new(budget: Budget, observer: &'o mut dyn Observer) -> Result<Self, OptimizeError> {
+        if budget.is_unbounded() {
+            return Err(OptimizeError::UnboundedBudget);
+        }
+        Ok(Self {
             start: Instant::now(),
             budget,
             observer,
             evaluations: 0,
             generation: 0,
             best: None,
-        }
+        })
     }
 
     /// Records a finished generation (`population` need not be sorted) and

@@ -34,10 +34,7 @@ impl Optimizer for RandomSearch {
         if self.batch == 0 {
             return Err(OptimizeError::Params("batch must be at least 1".into()));
         }
-        if budget.is_unbounded() {
-            return Err(OptimizeError::UnboundedBudget);
-        }
-        let mut progress = Progress::new(*budget, observer);
+        let mut progress = Progress::new(*budget, observer)?;
         loop {
             let g = progress.generation;
             let batch: Vec<Candidate> = (0..self.batch as u64)
