@@ -21,6 +21,9 @@
 //! - [`optimize`]: the [`optimize::Optimizer`] trait, [`optimize::Fitness`],
 //!   [`optimize::Budget`], [`optimize::Observer`], the genetic algorithm
 //!   [`optimize::Ga`] (paper Algorithm 1) and [`optimize::RandomSearch`].
+//! - [`express`]: the [`express::Generator`] trait turning a chromosome into
+//!   shape instances, the paper's [`express::Scope`], sinks, and a run-time
+//!   [`express::Interpreter`].
 //! - [`rng`]: the deterministic random streams behind reproducible runs.
 //!
 //! ## Example
@@ -56,14 +59,22 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod express;
 pub mod genome;
 pub mod graph;
 pub mod ops;
 pub mod optimize;
 pub mod rng;
 
+/// Lets this crate's own tests and docs name `::shapegen_core`.
+extern crate self as shapegen_core;
+
+/// Re-exported for generated code and for users of [`express`].
+pub use glam;
+
 /// The types and functions most programs need.
 pub mod prelude {
+    pub use crate::express::{Generator, Instances, ModelSink, Scope};
     pub use crate::genome::{Chromosome, ChromosomeData, Gene, GenomeError};
     pub use crate::graph::{
         Dist, Graph, GraphBuilder, GraphError, GraphErrors, GraphSpec, IntDist, Limits, NodeSpec,

@@ -1,0 +1,35 @@
+//! The [`Generator`] trait: a graph plus the code that turns a chromosome into geometry.
+
+use crate::genome::Chromosome;
+use crate::graph::Graph;
+
+use super::sink::ModelSink;
+
+/// A procedural generator: a checked graph, the shapes it emits, and how
+/// each gene's operation transforms the state and emits geometry.
+///
+/// Implemented by the `generator!` macro (one monomorphic function per node)
+/// and by [`Interpreter`](super::Interpreter) (rules given at run time).
+pub trait Generator: Sync {
+    /// The shape state passed along edges (the paper's scope by default).
+    type State: Clone;
+
+    /// The checked generator graph.
+    fn graph(&self) -> &Graph;
+
+    /// Names of the shapes the generator emits; a [`ShapeId`](super::ShapeId) indexes this list.
+    fn shapes(&self) -> &[std::borrow::Cow<'static, str>];
+
+    /// The state the root gene starts from.
+    fn axiom(&self) -> Self::State;
+
+    /// Expresses `chromosome` (which must be valid for [`graph`](Self::graph)),
+    /// emitting its instances into `sink`. Genes are expressed depth first,
+    /// children in slot order. `stack` is working memory, reused between calls.
+    fn express_with<S: ModelSink>(&self, chromosome: &Chromosome, sink: &mut S, stack: &mut Vec<(u32, Self::State)>);
+
+    /// [`express_with`](Self::express_with) with fresh working memory.
+    fn express<S: ModelSink>(&self, chromosome: &Chromosome, sink: &mut S) {
+        self.express_with(chromosome, sink, &mut Vec::new());
+    }
+}
