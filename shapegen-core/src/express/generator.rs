@@ -26,7 +26,12 @@ pub trait Generator: Sync {
     /// Expresses `chromosome` (which must be valid for [`graph`](Self::graph)),
     /// emitting its instances into `sink`. Genes are expressed depth first,
     /// children in slot order. `stack` is working memory, reused between calls.
-    fn express_with<S: ModelSink>(&self, chromosome: &Chromosome, sink: &mut S, stack: &mut Vec<(u32, Self::State)>);
+    fn express_with<S: ModelSink>(
+        &self,
+        chromosome: &Chromosome,
+        sink: &mut S,
+        stack: &mut Vec<(u32, Self::State)>,
+    );
 
     /// [`express_with`](Self::express_with) with fresh working memory.
     fn express<S: ModelSink>(&self, chromosome: &Chromosome, sink: &mut S) {

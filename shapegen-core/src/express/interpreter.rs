@@ -8,6 +8,7 @@ use crate::genome::{Chromosome, Gene};
 use crate::graph::Graph;
 
 use super::generator::Generator;
+use super::node_out::{NodeOut, SlotRef};
 use super::sink::{ModelSink, ShapeId};
 
 /// A node's operation at run time: reads the gene's parameters by name,
@@ -87,15 +88,28 @@ impl std::error::Error for ExpressErrors {}
 
 impl<St> std::fmt::Debug for Interpreter<St> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Interpreter").field("graph", &self.graph.name()).field("shapes", &self.shapes).finish()
+        f.debug_struct("Interpreter")
+            .field("graph", &self.graph.name())
+            .field("shapes", &self.shapes)
+            .finish()
     }
 }
 
 impl<St: Clone + Send + Sync> Interpreter<St> {
     /// An interpreter for `graph` emitting the named `shapes`, starting from `axiom`.
-    pub fn new<S: Into<Cow<'static, str>>>(graph: Graph, shapes: impl IntoIterator<Item = S>, axiom: St) -> Self {
+    pub fn new<S: Into<Cow<'static, str>>>(
+        graph: Graph,
+        shapes: impl IntoIterator<Item = S>,
+        axiom: St,
+    ) -> Self {
         let rules = (0..graph.node_count()).map(|_| None).collect();
-        Self { graph, shapes: shapes.into_iter().map(Into::into).collect(), axiom, rules, errors: Vec::new() }
+        Self {
+            graph,
+            shapes: shapes.into_iter().map(Into::into).collect(),
+            axiom,
+            rules,
+            errors: Vec::new(),
+        }
     }
 
     /// Sets the rule of node `node`.
@@ -106,10 +120,13 @@ impl<St: Clone + Send + Sync> Interpreter<St> {
         rule: impl Fn(&RuleInput<'_>, St, &mut RuleOutput<'_, St>) + Send + Sync + 'static,
     ) -> Self {
         match self.graph.node_id(node) {
-            None => self.errors.push(ExpressError::UnknownNode(node.to_string())),
+            None => self
+                .errors
+                .push(ExpressError::UnknownNode(node.to_string())),
             Some(id) => {
                 if self.rules[id as usize].replace(Box::new(rule)).is_some() {
-                    self.errors.push(ExpressError::DuplicateRule(node.to_string()));
+                    self.errors
+                        .push(ExpressError::DuplicateRule(node.to_string()));
                 }
             }
         }
@@ -120,7 +137,9 @@ impl<St: Clone + Send + Sync> Interpreter<St> {
     pub fn build(mut self) -> Result<Self, ExpressErrors> {
         for (i, r) in self.rules.iter().enumerate() {
             if r.is_none() {
-                self.errors.push(ExpressError::MissingRule(self.graph.node(i as u16).name.to_string()));
+                self.errors.push(ExpressError::MissingRule(
+                    self.graph.node(i as u16).name.to_string(),
+                ));
             }
         }
         if self.errors.is_empty() {
@@ -146,15 +165,31 @@ impl<St: Clone + Send + Sync> Generator for Interpreter<St> {
         self.axiom.clone()
     }
 
-    fn express_with<S: ModelSink>(&self, chromosome: &Chromosome, sink: &mut S, stack: &mut Vec<(u32, St)>) {
+    fn express_with<S: ModelSink>(
+        &self,
+        chromosome: &Chromosome,
+        sink: &mut S,
+        stack: &mut Vec<(u32, St)>,
+    ) {
         stack.clear();
         stack.push((0, self.axiom.clone()));
         while let Some((pos, state)) = stack.pop() {
             let gene = chromosome.gene(&self.graph, pos);
-            let Some(rule) = &self.rules[gene.node() as usize] else { continue };
+            let Some(rule) = &self.rules[gene.node() as usize] else {
+                continue;
+            };
             let start = stack.len();
-            let input = RuleInput { graph: &self.graph, gene };
-            let mut out = RuleOutput { gene, graph: &self.graph, shapes: &self.shapes, sink: &mut *sink, stack: &mut *stack };
+            let input = RuleInput {
+                graph: &self.graph,
+                gene,
+            };
+            let mut out = RuleOutput {
+                gene,
+                graph: &self.graph,
+                shapes: &self.shapes,
+                sink: &mut *sink,
+                stack: &mut *stack,
+            };
             rule(&input, state, &mut out);
             stack[start..].reverse();
         }
@@ -237,14 +272,56 @@ impl<St> RuleOutput<'_, St> {
     /// Passes `state` to the child in slot `slot` (by name), if it is expressed.
     /// Panics on an unknown slot.
     pub fn child(&mut self, slot: &str, state: St) {
+        self.express_child(
+            SlotRef {
+                index: usize::MAX,
+                name: slot,
+                element: 0,
+            },
+            state,
+        );
+    }
+
+    /// Whether the child in slot `slot` (by name) is expressed. Panics on an unknown slot.
+    #[must_use]
+    pub fn has_child(&self, slot: &str) -> bool {
+        self.is_expressed(SlotRef {
+            index: usize::MAX,
+            name: slot,
+            element: 0,
+        })
+    }
+
+    /// The slot's index, found by name (`name`, or `name[0]` plus the
+    /// element for a slot array).
+    fn slot_by_name(&self, slot: SlotRef<'_>) -> usize {
         let node = self.graph.node(self.gene.node());
-        let j = node
-            .slots
-            .iter()
-            .position(|s| s.name == slot)
-            .unwrap_or_else(|| panic!("node `{}` has no slot `{slot}`", node.name));
+        let first = node.slots.iter().position(|s| {
+            s.name == slot.name
+                || (s.name.starts_with(slot.name) && &s.name[slot.name.len()..] == "[0]")
+        });
+        match first {
+            Some(j) if j + slot.element < node.slots.len() => j + slot.element,
+            _ => panic!("node `{}` has no slot `{}`", node.name, slot.name),
+        }
+    }
+}
+
+impl<St> NodeOut<St> for RuleOutput<'_, St> {
+    /// Looks the shape up by name, as the interpreter does.
+    fn emit_shape(&mut self, _: ShapeId, name: &str, transform: Affine3A) {
+        self.emit(name, transform);
+    }
+
+    /// Looks the slot up by name, as the interpreter does.
+    fn express_child(&mut self, slot: SlotRef<'_>, state: St) {
+        let j = self.slot_by_name(slot);
         if let Some(pos) = self.gene.child(j) {
             self.stack.push((pos, state));
         }
+    }
+
+    fn is_expressed(&self, slot: SlotRef<'_>) -> bool {
+        self.gene.child(self.slot_by_name(slot)).is_some()
     }
 }

@@ -8,10 +8,12 @@
 
 mod generator;
 mod interpreter;
+mod node_out;
 mod scope;
 mod sink;
 
 pub use generator::Generator;
 pub use interpreter::{ExpressError, ExpressErrors, Interpreter, Rule, RuleInput, RuleOutput};
+pub use node_out::{NodeOut, SlotRef};
 pub use scope::Scope;
 pub use sink::{CountingSink, Instance, Instances, ModelSink, ShapeId};

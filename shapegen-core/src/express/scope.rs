@@ -25,7 +25,10 @@ impl Default for Scope {
 
 impl Scope {
     /// A unit box at the origin with the identity frame.
-    pub const UNIT: Self = Self { frame: Affine3A::IDENTITY, size: Vec3::ONE };
+    pub const UNIT: Self = Self {
+        frame: Affine3A::IDENTITY,
+        size: Vec3::ONE,
+    };
 
     /// Moves the frame by `v` in local coordinates.
     #[inline]

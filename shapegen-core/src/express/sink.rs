@@ -30,7 +30,10 @@ pub struct Instances(pub Vec<Instance>);
 impl ModelSink for Instances {
     #[inline]
     fn emit(&mut self, shape: ShapeId, transform: &Affine3A) {
-        self.0.push(Instance { shape, transform: *transform });
+        self.0.push(Instance {
+            shape,
+            transform: *transform,
+        });
     }
 }
 
