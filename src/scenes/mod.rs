@@ -2,9 +2,21 @@
 //!
 //! Each scene re-creates a generator of *ShapeGenetics* (Haubenwallner et
 //! al. 2017) with the nodes, parameter ranges, probabilities and placement
-//! of the reference notes; angles are declared in degrees and converted when
-//! expressed.
+//! of the reference notes; angles are declared in degrees (trees) or
+//! radians (city building rotation) as in the paper's configurations.
+//!
+//! | generator | paper | shapes |
+//! |---|---|---|
+//! | [`Spaceship`] | Fig. 3, 4a | `cube` |
+//! | [`TreeV2`] | Fig. 8a, tree sketch | `frustum`, `leaf` |
+//! | [`TreeV1`] | Fig. 8a, tree avoid | `frustum`, `leaf` |
+//! | [`SpaceFillingCity`] | Fig. 8b, city skylines | `cube` |
+//! | [`GridCity`] | city volume scene | `cube` |
 
+mod city;
 mod spaceship;
+mod tree;
 
+pub use city::{GRID, GridCity, LOT_STEP, SpaceFillingCity, grid_lot};
 pub use spaceship::{ShipState, Spaceship};
+pub use tree::{TreeV1, TreeV2};

@@ -1,0 +1,144 @@
+//! The cities of the paper: the space-filling city (Fig. 8b) and the grid city.
+
+use std::f32::consts::FRAC_PI_2;
+
+use crate::express::Scope;
+use crate::generator;
+use crate::glam::{Affine3A, Vec2, Vec3};
+
+/// Distance between neighbouring lots (0.1 × 22).
+pub const LOT_STEP: f32 = 2.2;
+
+/// A building on the lot at `lot`: turned by `rotation` about the lot
+/// centre, a box of footprint `footprint` and height `height` standing on
+/// y = 0. Sizes are declared ×10 (as the paper's configs) and scaled by 0.1.
+pub(crate) fn building(lot: Scope, footprint: Vec2, height: f32, rotation: f32) -> Affine3A {
+    let mut s = lot;
+    s.rotate_y(rotation);
+    let size = Vec3::new(footprint.x, height, footprint.y) * 0.1;
+    s.set_size(size);
+    s.move_y(0.5 * size.y);
+    s.instance()
+}
+
+/// One lot further along the local x axis.
+fn step(mut s: Scope) -> Scope {
+    s.move_x(LOT_STEP);
+    s
+}
+
+/// The lot reached by turning by `angle` (radians) about y and stepping once.
+fn turn_and_step(mut s: Scope, angle: f32) -> Scope {
+    s.rotate_y(angle);
+    step(s)
+}
+
+generator! {
+    /// The paper's space-filling city (Fig. 8b): four arms of lots leave the
+    /// centre; a dual lot continues straight and may branch off a single lot
+    /// to its right; every lot may carry a building (a box emitted as `cube`).
+    /// All four arms are expressed (the reference code never expressed W).
+    pub struct SpaceFillingCity;
+    shapes: [cube];
+    start: Start;
+
+    node Start {
+        slots { north: N = 1.0, east: E = 1.0, south: S = 1.0, west: W = 1.0, building: Building = 0.33 }
+        |scope| {
+            child!(building, scope);
+            child!(north, scope);
+            child!(east, scope);
+            child!(south, scope);
+            child!(west, scope);
+        }
+    }
+
+    node N {
+        slots { lot: LotDual = 0.9 }
+        |scope| { child!(lot, turn_and_step(scope, FRAC_PI_2)); }
+    }
+
+    node E {
+        slots { lot: LotDual = 0.9 }
+        |scope| { child!(lot, turn_and_step(scope, 0.0)); }
+    }
+
+    node S {
+        slots { lot: LotDual = 0.9 }
+        |scope| { child!(lot, turn_and_step(scope, -FRAC_PI_2)); }
+    }
+
+    node W {
+        slots { lot: LotDual = 0.9 }
+        |scope| { child!(lot, turn_and_step(scope, std::f32::consts::PI)); }
+    }
+
+    node LotDual {
+        slots { dual: LotDual = 0.9, single: LotSingle = 0.9, building: Building = 0.33 }
+        |scope| {
+            child!(building, scope);
+            child!(dual, step(scope));
+            child!(single, turn_and_step(scope, -FRAC_PI_2));
+        }
+    }
+
+    node LotSingle {
+        slots { single: LotSingle = 0.9, building: Building = 0.33 }
+        |scope| {
+            child!(building, scope);
+            child!(single, step(scope));
+        }
+    }
+
+    node Building emits {
+        params {
+            footprint: vec2 = uniform([0.2 * 22.0, 0.2 * 22.0], [0.9 * 22.0, 0.9 * 22.0]),
+            height: f32 = uniform(1.2 * 3.0, 100.0),
+            floor_height: f32 = uniform(2.4, 3.6),
+            rotation: f32 = uniform(0.0, 3.141_592_7),
+        }
+        |scope| {
+            emit!(cube, building(scope, footprint, height, rotation));
+        }
+    }
+}
+
+/// Number of lots along each side of the grid city.
+pub const GRID: usize = 10;
+
+/// The centre of lot `index` (= i + 10 j) of the grid city.
+pub fn grid_lot(index: usize) -> Vec3 {
+    let (i, j) = ((index % GRID) as f32, (index / GRID) as f32);
+    Vec3::new(-9.9 + LOT_STEP * i, 0.0, -9.9 + LOT_STEP * j)
+}
+
+generator! {
+    /// The grid city of the volume scene (`city_sep`): a 10 × 10 grid of
+    /// lots 2.2 apart, each holding a building with probability 0.33. Lot
+    /// `(i, j)` is slot `lots[i + 10 j]` (the reference code derived it from
+    /// the node id, shifting the grid; fixed here).
+    pub struct GridCity;
+    shapes: [cube];
+    start: Start;
+
+    node Start {
+        slots { lots[100]: Building = 0.33 }
+        |scope| {
+            for k in 0..100 {
+                child!(lots[k], scope.translated(grid_lot(k)));
+            }
+        }
+    }
+
+    node Building emits {
+        params {
+            footprint: vec2 = uniform([0.2 * 22.0, 0.2 * 22.0], [0.9 * 22.0, 0.9 * 22.0]),
+            height: f32 = uniform(1.2 * 3.0, 100.0),
+            floor_height: f32 = uniform(2.4, 3.6),
+            rotation: f32 = uniform(0.0, 3.141_592_7),
+        }
+        |scope| {
+            emit!(cube, building(scope, footprint, height, rotation));
+        }
+    }
+}
