@@ -1,6 +1,6 @@
 //! The macro's own model of a `generator!` declaration.
 
-use proc_macro2::{Span, TokenStream};
+use proc_macro2::TokenStream;
 use syn::{Attribute, Expr, Ident, Pat, Path, Type, Visibility};
 
 /// The whole declaration.
@@ -16,8 +16,6 @@ pub struct Generator {
     /// The shape state type and its axiom, if not the default scope.
     pub state: Option<(Type, Expr)>,
     pub nodes: Vec<Node>,
-    /// Span of the whole invocation, for errors about missing parts.
-    pub span: Span,
 }
 
 #[derive(Default)]
@@ -43,8 +41,8 @@ pub struct Param {
     pub kind: Kind,
     pub dist: Ident,
     pub args: Vec<Expr>,
-    /// Span of the distribution call, for errors.
-    pub span: Span,
+    /// The distribution call's tokens (`uniform(0, 1)`), for errors spanning it.
+    pub call: TokenStream,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]

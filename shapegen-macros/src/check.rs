@@ -25,14 +25,14 @@ pub fn generator(cx: &Ctxt, g: &Generator) {
         }
     }
     match &g.start {
-        None => cx.error(g.span, "missing start node: add `start: NodeName;`"),
+        None => cx.error(g.name.span(), "missing start node: add `start: NodeName;`"),
         Some(s) if !names.contains(&s.to_string()) => {
             cx.error(s.span(), format!("unknown start node `{s}`"))
         }
         Some(_) => {}
     }
     if g.nodes.is_empty() {
-        cx.error(g.span, "a generator needs at least one `node`");
+        cx.error(g.name.span(), "a generator needs at least one `node`");
     }
     for n in &g.nodes {
         let mut params = HashSet::new();
@@ -59,7 +59,10 @@ pub fn generator(cx: &Ctxt, g: &Generator) {
             if let Some(p) = number(&s.p)
                 && !(0.0..=1.0).contains(&p)
             {
-                cx.error(s.p.span(), format!("probability {p} is outside [0, 1]"));
+                cx.syn_error(syn::Error::new_spanned(
+                    &s.p,
+                    format!("probability {p} is outside [0, 1]"),
+                ));
             }
         }
         for s in &n.slots {
@@ -166,14 +169,14 @@ fn param(cx: &Ctxt, p: &Param) {
         return;
     };
     if p.args.len() != arity {
-        cx.error(
-            p.span,
+        cx.syn_error(syn::Error::new_spanned(
+            &p.call,
             format!(
                 "`{dist}` takes {arity} argument{}, found {}",
                 if arity == 1 { "" } else { "s" },
                 p.args.len()
             ),
-        );
+        ));
         return;
     }
     if p.kind == Kind::Choice {
@@ -212,7 +215,6 @@ fn param(cx: &Ctxt, p: &Param) {
             per_component[i].push(number(c));
         }
     }
-    let span = p.span;
     for v in per_component {
         let problem = match (dist.as_str(), v.as_slice()) {
             ("uniform", [Some(lo), Some(hi)]) if lo > hi => {
@@ -230,7 +232,7 @@ fn param(cx: &Ctxt, p: &Param) {
             _ => None,
         };
         if let Some(problem) = problem {
-            cx.error(span, problem);
+            cx.syn_error(syn::Error::new_spanned(&p.call, problem));
             return;
         }
     }

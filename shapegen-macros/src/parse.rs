@@ -4,7 +4,7 @@
 //! probabilities) is checked by [`check`](crate::check), which reports every
 //! problem at once.
 
-use proc_macro2::{Delimiter, TokenTree};
+use proc_macro2::{Delimiter, TokenStream, TokenTree};
 use syn::parse::{Parse, ParseStream};
 use syn::punctuated::Punctuated;
 use syn::{
@@ -29,7 +29,6 @@ mod kw {
 
 impl Parse for Generator {
     fn parse(input: ParseStream) -> syn::Result<Self> {
-        let span = input.span();
         let attrs = input.call(Attribute::parse_outer)?;
         let vis: Visibility = input.parse()?;
         input.parse::<Token![struct]>()?;
@@ -45,7 +44,6 @@ impl Parse for Generator {
             limits: Limits::default(),
             state: None,
             nodes: Vec::new(),
-            span,
         };
         while !input.is_empty() {
             let item_attrs = input.call(Attribute::parse_outer)?;
@@ -188,22 +186,29 @@ impl Parse for Param {
             )
         })?;
         input.parse::<Token![=]>()?;
+        let fork = input.fork();
         let dist: Ident = input.parse()?;
         let args;
-        let parens = parenthesized!(args in input);
+        parenthesized!(args in input);
         let args = Punctuated::<Expr, Token![,]>::parse_terminated(&args)?
             .into_iter()
             .collect();
-        let span = dist
-            .span()
-            .join(parens.span.close())
-            .unwrap_or_else(|| dist.span());
+        // The call's tokens, kept to point errors at the whole call.
+        let mut call = TokenStream::new();
+        let mut cursor = fork.cursor();
+        while let Some((tt, next)) = cursor.token_tree() {
+            call.extend([tt]);
+            if next == input.cursor() {
+                break;
+            }
+            cursor = next;
+        }
         Ok(Param {
             name,
             kind,
             dist,
             args,
-            span,
+            call,
         })
     }
 }

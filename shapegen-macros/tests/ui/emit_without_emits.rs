@@ -1,0 +1,9 @@
+shapegen::generator! {
+    struct G;
+    shapes: [cube];
+    start: A;
+    node A {
+        |s| { emit!(cube, s.instance()); }
+    }
+}
+fn main() {}

@@ -1,0 +1,6 @@
+shapegen::generator! {
+    struct G;
+    shapes: [cube];
+    node A { |s| {} }
+}
+fn main() {}
