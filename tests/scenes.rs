@@ -92,7 +92,6 @@ fn macro_and_interpreter_express_the_same_spaceships() {
 
 mod trees_and_cities {
     use super::*;
-    use shapegen::glam::Vec3A;
     use shapegen::scenes::{GridCity, SpaceFillingCity, TreeV1, TreeV2, grid_lot};
 
     fn tree_structure<G: Generator>(tree: &G) {
@@ -116,8 +115,7 @@ mod trees_and_cities {
                 assert!(g.children().count() <= 3);
             }
             // Branches shrink: every frustum but the trunk is shorter than the trunk.
-            let height =
-                |i: &shapegen::express::Instance| Vec3A::from(i.transform.matrix3.y_axis).length();
+            let height = |i: &shapegen::express::Instance| i.transform.matrix3.y_axis.length();
             let trunk = height(&model.0[0]);
             assert!(
                 (1.4..=1.8).contains(&trunk),
@@ -172,7 +170,7 @@ mod trees_and_cities {
             );
             for b in &model.0 {
                 let t = b.transform.translation;
-                let h = Vec3A::from(b.transform.matrix3.y_axis).length();
+                let h = b.transform.matrix3.y_axis.length();
                 assert!(
                     (t.y - 0.5 * h).abs() < 1e-4,
                     "seed {seed}: a building does not stand on y = 0"

@@ -78,7 +78,7 @@ pub mod __private {
     /// Words before a gene's child links (node word and parent link).
     pub const HEADER_WORDS: usize = crate::genome::word::SLOTS;
 
-    use crate::express::{ModelSink, NodeOut, ShapeId, SlotRef};
+    use crate::express::{ModelSink, NodeOut, Pending, ShapeId, SlotRef};
     use glam::Affine3A;
 
     /// The node id in a gene's first word.
@@ -97,7 +97,7 @@ pub mod __private {
         /// Where instances go.
         pub sink: &'a mut S,
         /// Pending children.
-        pub stack: &'a mut Vec<(u32, St)>,
+        pub stack: &'a mut Pending<St>,
     }
 
     impl<S: ModelSink, St> NodeOut<St> for Direct<'_, S, St> {
@@ -111,7 +111,7 @@ pub mod __private {
             let link = self.words[self.pos + HEADER_WORDS + slot.index];
             if link != 0 {
                 self.stack
-                    .push((crate::genome::word::follow(self.pos, link) as u32, state));
+                    .push(crate::genome::word::follow(self.pos, link) as u32, state);
             }
         }
 

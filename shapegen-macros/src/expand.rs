@@ -241,20 +241,20 @@ fn expand(cx: &Ctxt, g: &Generator) -> TokenStream {
                 &self,
                 chromosome: &#krate::genome::Chromosome,
                 #sink: &mut __SgSink,
-                #stack: &mut ::std::vec::Vec<(u32, #state_ty)>,
+                #stack: &mut #krate::express::Pending<#state_ty>,
             ) {
                 let #words = chromosome.words();
                 #stack.clear();
-                #stack.push((0, #axiom));
-                while let ::core::option::Option::Some((#pos, #state_arg)) = #stack.pop() {
-                    let #pos = #pos as usize;
+                #stack.push(0, #axiom);
+                while let ::core::option::Option::Some(#state_arg) = #stack.pop_state() {
+                    let #pos = #stack.pop_position() as usize;
                     let #start_len = #stack.len();
                     let mut #out = #krate::__private::Direct { words: #words, pos: #pos, sink: &mut *#sink, stack: &mut *#stack };
                     match #krate::__private::node_of(#words[#pos]) {
                         #(#direct_arms)*
                         _ => {}
                     }
-                    #stack[#start_len..].reverse();
+                    #stack.reverse_from(#start_len);
                 }
             }
         }
@@ -387,4 +387,78 @@ fn summary(g: &Generator) -> String {
         })
         .collect();
     format!("Generator graph: {}.", nodes.join("; "))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::generator;
+
+    fn expand(src: &str) -> String {
+        generator(src.parse().unwrap()).to_string()
+    }
+
+    const TOWER: &str = r#"
+        /// Docs.
+        pub struct Tower;
+        shapes: [cube];
+        start: Floor;
+        node Floor emits {
+            params { h: f32 = uniform(1, 2), v: vec3 = uniform([0.5; 3], 1.5) }
+            slots { up: Floor = 1 / 4, lots[3]: Floor = 0.5 }
+            |s| { emit!(cube, s.instance()); child!(up, s); child!(lots[1], s); }
+        }
+    "#;
+
+    #[test]
+    fn expands_a_static_graph_and_specialized_code() {
+        let out = expand(TOWER);
+        assert!(!out.contains("compile_error"), "{out}");
+        for needle in [
+            "pub static SPEC",
+            "fn __sg_node_Floor",
+            "impl :: shapegen :: express :: Generator for Tower",
+            // Probabilities made of literals are exact reals: 1 / 4 = 0.25.
+            "SlotSpec :: new (\"up\" , \"Floor\" , 0.25f64)",
+            // Slot arrays become numbered slots.
+            "\"lots[2]\"",
+            // Vector ranges are split per component; a scalar is broadcast.
+            "Dist :: uniform ((0.5) as f32 , (1.5) as f32)",
+        ] {
+            assert!(out.contains(needle), "missing `{needle}` in {out}");
+        }
+        // The parameter block starts after 4 slots: h at +4, v at +5..+7.
+        assert!(out.contains("HEADER_WORDS + 4usize"), "{out}");
+        assert!(out.contains("HEADER_WORDS + 7usize"), "{out}");
+    }
+
+    #[test]
+    fn every_error_is_reported_and_a_placeholder_type_is_emitted() {
+        let out = expand(
+            r#"
+            struct G;
+            shapes: [cube];
+            start: Nope;
+            node A { slots { x: Missing = 2.0 } |s| { child!(y, s); } }
+        "#,
+        );
+        for needle in [
+            "unknown start node `Nope`",
+            "unknown node `Missing`",
+            "probability 2 is outside",
+            "has no slot `y`",
+        ] {
+            assert!(out.contains(needle), "missing `{needle}` in {out}");
+        }
+        assert_eq!(out.matches("compile_error").count(), 4, "{out}");
+        assert!(out.ends_with("struct G ;"), "{out}");
+    }
+
+    #[test]
+    fn syntax_errors_stop_at_the_first_one() {
+        let out = expand("struct G; shapes [cube];");
+        assert!(
+            out.contains("compile_error") && out.contains("expected `:`"),
+            "{out}"
+        );
+    }
 }

@@ -1,10 +1,8 @@
 //! The cities of the paper: the space-filling city (Fig. 8b) and the grid city.
 
-use std::f32::consts::FRAC_PI_2;
-
 use crate::express::Scope;
 use crate::generator;
-use crate::glam::{Affine3A, Vec2, Vec3};
+use crate::glam::{Affine3A, Vec2, Vec3, Vec3A};
 
 /// Distance between neighbouring lots (0.1 × 22).
 pub const LOT_STEP: f32 = 2.2;
@@ -27,9 +25,34 @@ fn step(mut s: Scope) -> Scope {
     s
 }
 
-/// The lot reached by turning by `angle` (radians) about y and stepping once.
-fn turn_and_step(mut s: Scope, angle: f32) -> Scope {
-    s.rotate_y(angle);
+/// Exact rotations about y by `k` quarter turns (k = 0..4), as columns:
+/// `R_y(θ)` maps x to (cos θ, 0, −sin θ) and z to (sin θ, 0, cos θ).
+const QUARTER_TURNS: [Affine3A; 4] = [
+    Affine3A::IDENTITY,
+    Affine3A::from_cols(
+        Vec3A::new(0.0, 0.0, -1.0),
+        Vec3A::Y,
+        Vec3A::new(1.0, 0.0, 0.0),
+        Vec3A::ZERO,
+    ),
+    Affine3A::from_cols(
+        Vec3A::new(-1.0, 0.0, 0.0),
+        Vec3A::Y,
+        Vec3A::new(0.0, 0.0, -1.0),
+        Vec3A::ZERO,
+    ),
+    Affine3A::from_cols(
+        Vec3A::new(0.0, 0.0, 1.0),
+        Vec3A::Y,
+        Vec3A::new(-1.0, 0.0, 0.0),
+        Vec3A::ZERO,
+    ),
+];
+
+/// The lot reached by turning `quarters` quarter turns about y (counter-clockwise
+/// seen from above for positive values) and stepping once.
+fn turn_and_step(mut s: Scope, quarters: i32) -> Scope {
+    s.frame *= QUARTER_TURNS[quarters.rem_euclid(4) as usize];
     step(s)
 }
 
@@ -55,22 +78,22 @@ generator! {
 
     node N {
         slots { lot: LotDual = 0.9 }
-        |scope| { child!(lot, turn_and_step(scope, FRAC_PI_2)); }
+        |scope| { child!(lot, turn_and_step(scope, 1)); }
     }
 
     node E {
         slots { lot: LotDual = 0.9 }
-        |scope| { child!(lot, turn_and_step(scope, 0.0)); }
+        |scope| { child!(lot, turn_and_step(scope, 0)); }
     }
 
     node S {
         slots { lot: LotDual = 0.9 }
-        |scope| { child!(lot, turn_and_step(scope, -FRAC_PI_2)); }
+        |scope| { child!(lot, turn_and_step(scope, -1)); }
     }
 
     node W {
         slots { lot: LotDual = 0.9 }
-        |scope| { child!(lot, turn_and_step(scope, std::f32::consts::PI)); }
+        |scope| { child!(lot, turn_and_step(scope, 2)); }
     }
 
     node LotDual {
@@ -78,7 +101,7 @@ generator! {
         |scope| {
             child!(building, scope);
             child!(dual, step(scope));
-            child!(single, turn_and_step(scope, -FRAC_PI_2));
+            child!(single, turn_and_step(scope, -1));
         }
     }
 
@@ -95,7 +118,7 @@ generator! {
             footprint: vec2 = uniform([0.2 * 22.0, 0.2 * 22.0], [0.9 * 22.0, 0.9 * 22.0]),
             height: f32 = uniform(1.2 * 3.0, 100.0),
             floor_height: f32 = uniform(2.4, 3.6),
-            rotation: f32 = uniform(0.0, 3.141_592_7),
+            rotation: f32 = uniform(0.0, std::f32::consts::PI),
         }
         |scope| {
             emit!(cube, building(scope, footprint, height, rotation));
@@ -135,10 +158,23 @@ generator! {
             footprint: vec2 = uniform([0.2 * 22.0, 0.2 * 22.0], [0.9 * 22.0, 0.9 * 22.0]),
             height: f32 = uniform(1.2 * 3.0, 100.0),
             floor_height: f32 = uniform(2.4, 3.6),
-            rotation: f32 = uniform(0.0, 3.141_592_7),
+            rotation: f32 = uniform(0.0, std::f32::consts::PI),
         }
         |scope| {
             emit!(cube, building(scope, footprint, height, rotation));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quarter_turns_are_the_exact_rotations() {
+        for (k, turn) in QUARTER_TURNS.iter().enumerate() {
+            let exact = Affine3A::from_rotation_y(k as f32 * std::f32::consts::FRAC_PI_2);
+            assert!(turn.abs_diff_eq(exact, 1e-6), "{k}");
         }
     }
 }

@@ -3,6 +3,7 @@
 use crate::genome::Chromosome;
 use crate::graph::Graph;
 
+use super::pending::Pending;
 use super::sink::ModelSink;
 
 /// A procedural generator: a checked graph, the shapes it emits, and how
@@ -25,16 +26,17 @@ pub trait Generator: Sync {
 
     /// Expresses `chromosome` (which must be valid for [`graph`](Self::graph)),
     /// emitting its instances into `sink`. Genes are expressed depth first,
-    /// children in slot order. `stack` is working memory, reused between calls.
+    /// children in the order their parent schedules them. `pending` is
+    /// working memory, reused between calls.
     fn express_with<S: ModelSink>(
         &self,
         chromosome: &Chromosome,
         sink: &mut S,
-        stack: &mut Vec<(u32, Self::State)>,
+        pending: &mut Pending<Self::State>,
     );
 
     /// [`express_with`](Self::express_with) with fresh working memory.
     fn express<S: ModelSink>(&self, chromosome: &Chromosome, sink: &mut S) {
-        self.express_with(chromosome, sink, &mut Vec::new());
+        self.express_with(chromosome, sink, &mut Pending::new());
     }
 }

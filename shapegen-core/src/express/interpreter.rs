@@ -9,6 +9,7 @@ use crate::graph::Graph;
 
 use super::generator::Generator;
 use super::node_out::{NodeOut, SlotRef};
+use super::pending::Pending;
 use super::sink::{ModelSink, ShapeId};
 
 /// A node's operation at run time: reads the gene's parameters by name,
@@ -169,11 +170,12 @@ impl<St: Clone + Send + Sync> Generator for Interpreter<St> {
         &self,
         chromosome: &Chromosome,
         sink: &mut S,
-        stack: &mut Vec<(u32, St)>,
+        stack: &mut Pending<St>,
     ) {
         stack.clear();
-        stack.push((0, self.axiom.clone()));
-        while let Some((pos, state)) = stack.pop() {
+        stack.push(0, self.axiom.clone());
+        while let Some(state) = stack.pop_state() {
+            let pos = stack.pop_position();
             let gene = chromosome.gene(&self.graph, pos);
             let Some(rule) = &self.rules[gene.node() as usize] else {
                 continue;
@@ -191,7 +193,7 @@ impl<St: Clone + Send + Sync> Generator for Interpreter<St> {
                 stack: &mut *stack,
             };
             rule(&input, state, &mut out);
-            stack[start..].reverse();
+            stack.reverse_from(start);
         }
     }
 }
@@ -255,7 +257,7 @@ pub struct RuleOutput<'a, St> {
     graph: &'a Graph,
     shapes: &'a [Cow<'static, str>],
     sink: &'a mut dyn ModelSink,
-    stack: &'a mut Vec<(u32, St)>,
+    stack: &'a mut Pending<St>,
 }
 
 impl<St> RuleOutput<'_, St> {
@@ -317,7 +319,7 @@ impl<St> NodeOut<St> for RuleOutput<'_, St> {
     fn express_child(&mut self, slot: SlotRef<'_>, state: St) {
         let j = self.slot_by_name(slot);
         if let Some(pos) = self.gene.child(j) {
-            self.stack.push((pos, state));
+            self.stack.push(pos, state);
         }
     }
 

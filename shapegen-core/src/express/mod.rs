@@ -9,11 +9,13 @@
 mod generator;
 mod interpreter;
 mod node_out;
+mod pending;
 mod scope;
 mod sink;
 
 pub use generator::Generator;
 pub use interpreter::{ExpressError, ExpressErrors, Interpreter, Rule, RuleInput, RuleOutput};
 pub use node_out::{NodeOut, SlotRef};
+pub use pending::Pending;
 pub use scope::Scope;
 pub use sink::{CountingSink, Instance, Instances, ModelSink, ShapeId};

@@ -1,6 +1,6 @@
 //! [`Scope`]: the shape state the paper's generators pass along edges.
 
-use glam::{Affine3A, Vec3};
+use glam::{Affine3A, Vec3, Vec3A};
 
 /// An oriented box: an affine frame (rotation and translation) and a size.
 ///
@@ -13,8 +13,8 @@ use glam::{Affine3A, Vec3};
 pub struct Scope {
     /// Local-to-world transform of the box centre.
     pub frame: Affine3A,
-    /// Extent along the local axes.
-    pub size: Vec3,
+    /// Extent along the local axes (SIMD-aligned, so scopes copy in whole registers).
+    pub size: Vec3A,
 }
 
 impl Default for Scope {
@@ -27,7 +27,7 @@ impl Scope {
     /// A unit box at the origin with the identity frame.
     pub const UNIT: Self = Self {
         frame: Affine3A::IDENTITY,
-        size: Vec3::ONE,
+        size: Vec3A::ONE,
     };
 
     /// Moves the frame by `v` in local coordinates.
@@ -76,13 +76,13 @@ impl Scope {
     /// Multiplies the size component-wise by `k`.
     #[inline]
     pub fn resize(&mut self, k: Vec3) {
-        self.size *= k;
+        self.size *= Vec3A::from(k);
     }
 
     /// Sets the size.
     #[inline]
     pub fn set_size(&mut self, size: Vec3) {
-        self.size = size;
+        self.size = size.into();
     }
 
     /// A copy moved by `v` in local coordinates.
@@ -105,7 +105,7 @@ impl Scope {
     #[inline]
     #[must_use]
     pub fn instance(&self) -> Affine3A {
-        self.frame * Affine3A::from_scale(self.size)
+        self.frame * Affine3A::from_scale(self.size.into())
     }
 
     /// The world position of the box centre.
@@ -128,7 +128,7 @@ mod tests {
         s.move_x(2.0);
         assert!(s.origin().abs_diff_eq(Vec3::new(0.0, 0.0, -2.0), 1e-6));
         s.resize(Vec3::new(2.0, 3.0, 4.0));
-        assert_eq!(s.size, Vec3::new(2.0, 3.0, 4.0));
+        assert_eq!(s.size, Vec3A::new(2.0, 3.0, 4.0));
         // The unit cube's corner (0.5, 0.5, 0.5) maps through scale then frame.
         let corner = s.instance().transform_point3(Vec3::splat(0.5));
         let expected = s.frame.transform_point3(Vec3::new(1.0, 1.5, 2.0));
