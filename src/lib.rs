@@ -39,6 +39,7 @@ pub use shapegen_core::{express, genome, glam, graph, ops, optimize, rng};
 pub use shapegen_core::__private;
 
 pub use shapegen_macros::generator;
+pub use shapegen_score as score;
 
 pub mod demo;
 pub mod scenes;

@@ -1,5 +1,13 @@
-//! CPU scoring for shapegen: solid voxelization, silhouette rasterization
-//! and the paper's volume and image fitness functions.
+//! CPU scoring for [shapegen](https://crates.io/crates/shapegen).
 //!
-//! Not implemented yet: this crate is the scoring milestone. Until then, any
-//! `shapegen_core::optimize::Fitness` implementation can drive the optimizers.
+//! So far this crate holds the geometry the generators instance: the
+//! built-in [`mesh::Mesh`]es (unit cube, the paper's trunk frustum, a simple
+//! leaf) and OBJ export of expressed models ([`obj`]). Voxel and silhouette
+//! scoring against volume and image targets are the next milestone.
+
+pub mod error;
+pub mod mesh;
+pub mod obj;
+
+pub use error::ScoreError;
+pub use mesh::Mesh;

@@ -1,0 +1,178 @@
+//! Triangle meshes: the built-in shapes and their bounds.
+
+use glam::Vec3;
+
+/// An indexed triangle mesh.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    /// Vertex positions.
+    pub positions: Vec<Vec3>,
+    /// Triangles as indices into `positions`, counter-clockwise seen from outside.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl Mesh {
+    /// The axis-aligned unit cube centred at the origin (12 triangles).
+    #[must_use]
+    pub fn unit_cube() -> Self {
+        let positions = (0..8)
+            .map(|i| {
+                Vec3::new(
+                    (i & 1) as f32 - 0.5,
+                    ((i >> 1) & 1) as f32 - 0.5,
+                    ((i >> 2) & 1) as f32 - 0.5,
+                )
+            })
+            .collect();
+        // Two triangles per face, outward normals.
+        let triangles = vec![
+            [0, 2, 1],
+            [1, 2, 3], // z = −0.5
+            [4, 5, 6],
+            [5, 7, 6], // z = +0.5
+            [0, 1, 4],
+            [1, 5, 4], // y = −0.5
+            [2, 6, 3],
+            [3, 6, 7], // y = +0.5
+            [0, 4, 2],
+            [2, 4, 6], // x = −0.5
+            [1, 3, 5],
+            [3, 7, 5], // x = +0.5
+        ];
+        Self {
+            positions,
+            triangles,
+        }
+    }
+
+    /// A closed frustum along y with `sides` sides, from radius
+    /// `bottom_radius` at y = −0.5 to `top_radius` at y = +0.5, centred at
+    /// the origin. The paper's trunk is `frustum(16, 0.5, 0.29)`.
+    #[must_use]
+    pub fn frustum(sides: u32, bottom_radius: f32, top_radius: f32) -> Self {
+        let sides = sides.max(3);
+        let mut positions = Vec::with_capacity(2 * sides as usize + 2);
+        for (r, y) in [(bottom_radius, -0.5), (top_radius, 0.5)] {
+            for i in 0..sides {
+                let a = std::f32::consts::TAU * i as f32 / sides as f32;
+                positions.push(Vec3::new(r * a.cos(), y, -r * a.sin()));
+            }
+        }
+        let (bottom, top) = (2 * sides, 2 * sides + 1);
+        positions.push(Vec3::new(0.0, -0.5, 0.0));
+        positions.push(Vec3::new(0.0, 0.5, 0.0));
+        let mut triangles = Vec::with_capacity(4 * sides as usize);
+        for i in 0..sides {
+            let j = (i + 1) % sides;
+            // Side quad (counter-clockwise seen from outside: angles grow toward −z).
+            triangles.push([i, j, sides + i]);
+            triangles.push([j, sides + j, sides + i]);
+            triangles.push([bottom, j, i]);
+            triangles.push([top, sides + i, sides + j]);
+        }
+        Self {
+            positions,
+            triangles,
+        }
+    }
+
+    /// The paper's trunk: a closed 16-sided frustum, radii 0.5 and 0.29.
+    #[must_use]
+    pub fn trunk() -> Self {
+        Self::frustum(16, 0.5, 0.29)
+    }
+
+    /// A simple closed leaf made by shapegen (a flat, pointed blade with a
+    /// little thickness), filling the unit box. It stands in for the paper's
+    /// `leaf.obj` where no mesh file is given.
+    #[must_use]
+    pub fn leaf() -> Self {
+        // Outline in the xy plane: stem at the bottom, tip at the top.
+        let outline = [
+            (0.0, -0.5),
+            (0.35, -0.3),
+            (0.5, 0.0),
+            (0.35, 0.25),
+            (0.0, 0.5),
+            (-0.35, 0.25),
+            (-0.5, 0.0),
+            (-0.35, -0.3),
+        ];
+        let n = outline.len() as u32;
+        let mut positions: Vec<Vec3> = Vec::with_capacity(2 * outline.len());
+        for z in [-0.5, 0.5] {
+            positions.extend(outline.iter().map(|&(x, y)| Vec3::new(x, y, z)));
+        }
+        let mut triangles = Vec::new();
+        for i in 1..n - 1 {
+            triangles.push([0, i + 1, i]); // back face (z = −0.5), fan
+            triangles.push([n, n + i, n + i + 1]); // front face (z = +0.5)
+        }
+        for i in 0..n {
+            let j = (i + 1) % n;
+            triangles.push([i, j, n + i]);
+            triangles.push([j, n + j, n + i]);
+        }
+        Self {
+            positions,
+            triangles,
+        }
+    }
+
+    /// The built-in mesh for a shape name: `cube`, `frustum` or `trunk`, `leaf`.
+    #[must_use]
+    pub fn builtin(name: &str) -> Option<Self> {
+        match name {
+            "cube" => Some(Self::unit_cube()),
+            "frustum" | "trunk" => Some(Self::trunk()),
+            "leaf" => Some(Self::leaf()),
+            _ => None,
+        }
+    }
+
+    /// The smallest axis-aligned box holding every vertex, as (min, max).
+    #[must_use]
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        self.positions.iter().fold(
+            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        )
+    }
+
+    /// Signed volume (positive for a closed mesh with outward-facing triangles).
+    #[must_use]
+    pub fn volume(&self) -> f64 {
+        self.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| self.positions[i as usize].as_dvec3());
+                a.dot(b.cross(c)) / 6.0
+            })
+            .sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn builtins_fill_the_unit_box_and_face_outward() {
+        for name in ["cube", "frustum", "leaf"] {
+            let m = Mesh::builtin(name).unwrap();
+            let (lo, hi) = m.bounds();
+            assert!(
+                lo.abs_diff_eq(Vec3::splat(-0.5), 1e-6) && hi.abs_diff_eq(Vec3::splat(0.5), 1e-6),
+                "{name}: {lo} {hi}"
+            );
+            assert!(m.volume() > 0.0, "{name} is inside out");
+        }
+        assert!((Mesh::unit_cube().volume() - 1.0).abs() < 1e-9);
+        // A 16-sided frustum's volume is close to the cone frustum's π h (R² + R r + r²) / 3.
+        let (r0, r1) = (0.5f64, 0.29f64);
+        let cone = std::f64::consts::PI * (r0 * r0 + r0 * r1 + r1 * r1) / 3.0;
+        let v = Mesh::trunk().volume();
+        assert!((v - cone).abs() / cone < 0.03, "{v} vs {cone}");
+        assert!(Mesh::builtin("sphere").is_none());
+    }
+}
