@@ -124,7 +124,7 @@ mod tests {
         assert_eq!(text.lines().filter(|l| l.starts_with("v ")).count(), 16);
         assert_eq!(text.lines().filter(|l| l.starts_with("f ")).count(), 24);
         // The second cube's faces use vertices 9..=16 and its vertices are moved by x + 2.
-        let last_face = text.lines().filter(|l| l.starts_with("f ")).last().unwrap();
+        let last_face = text.lines().rfind(|l| l.starts_with("f ")).unwrap();
         assert!(
             last_face
                 .split(' ')
