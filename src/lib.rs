@@ -12,10 +12,50 @@
 //! produce models the generator can derive; a genetic algorithm and
 //! baselines ([`optimize`]) search for the best one.
 //!
-//! This crate is the facade: it re-exports [`shapegen_core`] and holds the
-//! built-in problems and the `shapegen` command line.
+//! This crate is the facade: it re-exports [`shapegen_core`] (graphs,
+//! genomes, operators, optimizers, expression) and [`shapegen_score`]
+//! (meshes, OBJ export), and holds the [`generator!`] macro, the paper's
+//! [`scenes`], a built-in [`demo`] problem and the `shapegen` command line.
 //!
-//! ## Example
+//! ## Declaring a generator
+//!
+//! ```
+//! use shapegen::prelude::*;
+//! use shapegen::express::Instances;
+//!
+//! generator! {
+//!     /// A chain of boxes along +x, each resized from its parent.
+//!     pub struct Chain;
+//!     shapes: [cube];
+//!     start: Link;
+//!
+//!     node Link emits {
+//!         params { k: vec3 = uniform([0.8; 3], [1.2; 3]) }
+//!         slots { next: Link = 0.7 }
+//!         |mut scope| {
+//!             scope.resize(k);
+//!             scope.move_x(0.5 * scope.size.x);
+//!             emit!(cube, scope.instance());
+//!             scope.move_x(0.5 * scope.size.x);
+//!             child!(next, scope);
+//!         }
+//!     }
+//! }
+//!
+//! // Evolve chains whose far end reaches x = 10.
+//! let fitness = FnFitness(|c: &Chromosome| {
+//!     let mut model = Instances::default();
+//!     Chain.express(c, &mut model);
+//!     let end = model.0.iter().map(|i| i.transform.translation.x + 0.5 * i.transform.matrix3.x_axis.x).fold(0.0, f32::max);
+//!     -f64::from((end - 10.0).abs())
+//! });
+//! let ga = Ga::new(GaParams { population: 60, elites: 10, init: InitLength::Around { l0: 6 }, ..GaParams::default() });
+//! let result = ga.run(Chain.graph(), &fitness, &Budget::generations(40), 1, &mut NoObserver)?;
+//! assert!(result.best_fitness > -0.5);
+//! # Ok::<(), OptimizeError>(())
+//! ```
+//!
+//! ## A built-in problem
 //!
 //! ```
 //! use shapegen::demo::{BlocksTarget, blocks_graph};
