@@ -9,6 +9,25 @@ pub enum ScoreError {
     /// A generator emits a shape with no mesh.
     #[error("no mesh for shape `{0}`: built-in shapes are `cube`, `frustum` and `leaf`")]
     UnknownShape(String),
+    /// A voxel grid with empty or non-finite bounds or no cells.
+    #[error("invalid voxel grid: {0}")]
+    Grid(String),
+    /// A mesh unusable as a solid (no triangles, non-finite vertices, bad indices).
+    #[error("invalid mesh `{name}`: {reason}")]
+    Mesh {
+        /// Which mesh.
+        name: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// An OBJ file that cannot be read as a triangle mesh.
+    #[error("{}: not a usable OBJ mesh: {reason}", path.display())]
+    Obj {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        reason: String,
+    },
     /// Reading or writing a file failed.
     #[error("{}: {source}", path.display())]
     Io {

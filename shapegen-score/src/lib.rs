@@ -6,8 +6,14 @@
 //! scoring against volume and image targets are the next milestone.
 
 pub mod error;
+pub mod grid;
 pub mod mesh;
 pub mod obj;
+pub mod solid;
+pub mod voxelize;
 
 pub use error::ScoreError;
+pub use grid::Grid;
 pub use mesh::Mesh;
+pub use solid::Solid;
+pub use voxelize::{Span, Voxelizer};

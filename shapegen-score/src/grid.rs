@@ -1,0 +1,156 @@
+//! [`Grid`]: a regular lattice of voxels over a box.
+
+use glam::{DVec3, IVec3, UVec3, Vec3};
+
+use crate::error::ScoreError;
+
+/// `dims` cells over `[min, max]`. Cell `(i, j, k)` is centred at
+/// `min + (i + ½, j + ½, k + ½) · Δ` with `Δ = (max − min) / dims`; the same
+/// spacing continues outside the grid (the *lattice*), so cells of a model
+/// outside the grid can be counted too.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Grid {
+    min: DVec3,
+    max: DVec3,
+    dims: UVec3,
+    cell: DVec3,
+}
+
+impl Grid {
+    /// A grid over `[min, max]` with `dims` cells per axis (anisotropic cells allowed).
+    pub fn new(min: Vec3, max: Vec3, dims: UVec3) -> Result<Self, ScoreError> {
+        let (min, max) = (min.as_dvec3(), max.as_dvec3());
+        if !min.is_finite() || !max.is_finite() || min.cmpge(max).any() {
+            return Err(ScoreError::Grid(format!(
+                "bounds {min} .. {max} are empty or not finite"
+            )));
+        }
+        if dims.cmpeq(UVec3::ZERO).any() || dims.as_u64vec3().element_product() > 1 << 31 {
+            return Err(ScoreError::Grid(format!(
+                "{dims} cells: each axis needs at least one, and at most 2^31 in all"
+            )));
+        }
+        Ok(Self {
+            min,
+            max,
+            dims,
+            cell: (max - min) / dims.as_dvec3(),
+        })
+    }
+
+    /// A cubic grid of `n³` cells over `[min, max]`.
+    pub fn cube(min: Vec3, max: Vec3, n: u32) -> Result<Self, ScoreError> {
+        Self::new(min, max, UVec3::splat(n))
+    }
+
+    /// Cells per axis.
+    #[must_use]
+    pub fn dims(&self) -> UVec3 {
+        self.dims
+    }
+
+    /// Number of cells.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.dims.as_u64vec3().element_product() as usize
+    }
+
+    /// Always false (a grid has at least one cell).
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+
+    /// Lower corner.
+    #[must_use]
+    pub fn min(&self) -> DVec3 {
+        self.min
+    }
+
+    /// Upper corner.
+    #[must_use]
+    pub fn max(&self) -> DVec3 {
+        self.max
+    }
+
+    /// Cell size `Δ`.
+    #[must_use]
+    pub fn cell_size(&self) -> DVec3 {
+        self.cell
+    }
+
+    /// Centre of lattice cell `c` (any integers, inside the grid or not).
+    #[inline]
+    #[must_use]
+    pub fn center(&self, c: IVec3) -> DVec3 {
+        self.min + (c.as_dvec3() + 0.5) * self.cell
+    }
+
+    /// Centre coordinate of lattice cell `i` along `axis`.
+    #[inline]
+    #[must_use]
+    pub fn center_along(&self, axis: usize, i: i64) -> f64 {
+        self.min[axis] + (i as f64 + 0.5) * self.cell[axis]
+    }
+
+    /// The first lattice index along `axis` whose centre is `>= x`, with the
+    /// exact rule of [`center_along`](Self::center_along) (no rounding surprises).
+    #[inline]
+    #[must_use]
+    pub fn first_at_or_after(&self, axis: usize, x: f64) -> i64 {
+        let mut i = ((x - self.min[axis]) / self.cell[axis] - 0.5).ceil() as i64;
+        while self.center_along(axis, i - 1) >= x {
+            i -= 1;
+        }
+        while self.center_along(axis, i) < x {
+            i += 1;
+        }
+        i
+    }
+
+    /// Whether lattice cell `c` is inside the grid.
+    #[inline]
+    #[must_use]
+    pub fn contains(&self, c: IVec3) -> bool {
+        c.cmpge(IVec3::ZERO).all() && c.as_uvec3().cmplt(self.dims).all()
+    }
+
+    /// Linear index of an in-grid cell (x fastest, then y, then z).
+    #[inline]
+    #[must_use]
+    pub fn index(&self, c: UVec3) -> usize {
+        (c.x + self.dims.x * (c.y + self.dims.y * c.z)) as usize
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn centres_and_first_index_agree_exactly() {
+        let g = Grid::new(
+            Vec3::new(-5.0, -5.0, -2.0),
+            Vec3::new(5.0, 5.0, 18.0),
+            UVec3::new(100, 200, 100),
+        )
+        .unwrap();
+        assert!(
+            (g.cell_size() - DVec3::new(0.1, 0.05, 0.2))
+                .abs()
+                .max_element()
+                < 1e-12
+        );
+        assert_eq!(g.center(IVec3::ZERO), DVec3::new(-4.95, -4.975, -1.9));
+        for x in [-5.0, -4.95, -4.9500001, 0.0, 0.05, 4.95, 7.0, -12.3] {
+            let i = g.first_at_or_after(0, x);
+            assert!(
+                g.center_along(0, i) >= x && g.center_along(0, i - 1) < x,
+                "{x}"
+            );
+        }
+        assert!(Grid::new(Vec3::ONE, Vec3::ONE, UVec3::ONE).is_err());
+        assert!(Grid::new(Vec3::ZERO, Vec3::ONE, UVec3::new(0, 1, 1)).is_err());
+        assert!(Grid::new(Vec3::ZERO, Vec3::splat(f32::NAN), UVec3::ONE).is_err());
+    }
+}
