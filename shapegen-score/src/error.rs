@@ -28,6 +28,9 @@ pub enum ScoreError {
         /// What is wrong.
         reason: String,
     },
+    /// A target that cannot be used.
+    #[error("invalid target: {0}")]
+    Target(String),
     /// Reading or writing a file failed.
     #[error("{}: {source}", path.display())]
     Io {

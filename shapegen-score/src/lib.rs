@@ -9,7 +9,9 @@ pub mod error;
 pub mod grid;
 pub mod mesh;
 pub mod obj;
+pub mod score;
 pub mod solid;
+pub mod volume;
 pub mod voxelize;
 
 pub use error::ScoreError;

@@ -1,0 +1,246 @@
+//! Volume targets and counting a model's voxels against them.
+//!
+//! Targets are voxelized once, with the same centre-sampled routine as the
+//! model, and combined into one weight per cell as the paper does:
+//! `C(v) = Σ_i (w_i · V_i(v) + w̃_i · (1 − V_i(v)))`. Evaluating a model
+//! voxelizes each instance as it is emitted and accumulates the counts the
+//! scores need; only the touched cells are reset afterwards, so an
+//! evaluation costs what the model covers, not the grid's size.
+
+use glam::Affine3A;
+use shapegen_core::express::{ModelSink, ShapeId};
+
+use crate::error::ScoreError;
+use crate::grid::Grid;
+use crate::mesh::Mesh;
+use crate::solid::Solid;
+use crate::voxelize::{Span, Voxelizer};
+
+/// One volume target: a closed mesh in world coordinates and its weights.
+#[derive(Clone, Debug)]
+pub struct VolumeTarget {
+    /// Name (for messages).
+    pub name: String,
+    /// The mesh, in world coordinates.
+    pub mesh: Mesh,
+    /// `w_i`: weight of each target cell the model covers (positive = fill).
+    pub fill: f64,
+    /// `w̃_i`: weight of each model cell outside the target (negative = avoid).
+    pub outside: f64,
+}
+
+/// A voxel grid with targets combined into one weight per cell.
+#[derive(Clone, Debug)]
+pub struct VolumeScene {
+    grid: Grid,
+    /// `C(v)` per cell.
+    weight: Vec<f32>,
+    /// Whether each cell is inside some target.
+    target: Vec<bool>,
+    target_cells: u64,
+    /// `Σ_i w̃_i`: the weight of a model cell outside the grid (outside every target).
+    outside_sum: f64,
+    warnings: Vec<String>,
+}
+
+impl VolumeScene {
+    /// Voxelizes `targets` over `grid` and combines them.
+    pub fn new(grid: Grid, targets: &[VolumeTarget]) -> Result<Self, ScoreError> {
+        let n = grid.len();
+        let mut weight = vec![0.0f64; n];
+        let mut target = vec![false; n];
+        let mut inside = vec![false; n];
+        let mut warnings = Vec::new();
+        let mut vox = Voxelizer::new();
+        for t in targets {
+            if !t.fill.is_finite() || !t.outside.is_finite() {
+                return Err(ScoreError::Target(format!(
+                    "target `{}` has a non-finite weight",
+                    t.name
+                )));
+            }
+            let solid = Solid::new(&t.name, &t.mesh)?;
+            if let Solid::Mesh(m) = &solid
+                && m.boundary_edges() > 0
+            {
+                warnings.push(format!(
+                    "target `{}` is not watertight ({} boundary edges): its inside is decided by ray parity and may have holes or streaks",
+                    t.name,
+                    m.boundary_edges()
+                ));
+            }
+            inside.iter_mut().for_each(|c| *c = false);
+            vox.spans(&grid, &solid, &Affine3A::IDENTITY, |s| {
+                for i in in_grid(&grid, s) {
+                    inside[i] = true;
+                }
+            });
+            for ((w, tg), &ins) in weight.iter_mut().zip(target.iter_mut()).zip(&inside) {
+                *w += if ins { t.fill } else { t.outside };
+                *tg |= ins;
+            }
+        }
+        let target_cells = target.iter().filter(|&&t| t).count() as u64;
+        Ok(Self {
+            grid,
+            weight: weight.into_iter().map(|w| w as f32).collect(),
+            target,
+            target_cells,
+            outside_sum: targets.iter().map(|t| t.outside).sum(),
+            warnings,
+        })
+    }
+
+    /// The grid.
+    #[must_use]
+    pub fn grid(&self) -> &Grid {
+        &self.grid
+    }
+
+    /// `T`: cells inside some target.
+    #[must_use]
+    pub fn target_cells(&self) -> u64 {
+        self.target_cells
+    }
+
+    /// The outside weight `Σ w̃_i` a model cell outside the grid contributes.
+    #[must_use]
+    pub fn outside_sum(&self) -> f64 {
+        self.outside_sum
+    }
+
+    /// Problems worth telling the user (e.g. a target that is not watertight).
+    #[must_use]
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+
+    /// Whether cell `i` (linear index) is a target cell.
+    #[must_use]
+    pub fn is_target(&self, i: usize) -> bool {
+        self.target[i]
+    }
+}
+
+/// The linear indices of a span's cells inside the grid.
+fn in_grid(grid: &Grid, s: Span) -> std::ops::Range<usize> {
+    let d = grid.dims();
+    let row_ok = s.y >= 0 && s.z >= 0 && (s.y as u64) < d.y as u64 && (s.z as u64) < d.z as u64;
+    let (x0, x1) = (s.x0.max(0), s.x1.min(d.x as i64));
+    if !row_ok || x0 >= x1 {
+        return 0..0;
+    }
+    let base = grid.index(glam::UVec3::new(0, s.y as u32, s.z as u32));
+    base + x0 as usize..base + x1 as usize
+}
+
+/// What one model covers, counted against a [`VolumeScene`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct VolumeCounts {
+    /// `Σ C(v)` over the grid cells the model covers (each once).
+    pub weight: f64,
+    /// `G`: covered target cells.
+    pub good: u64,
+    /// `B`: covered cells outside every target (in the grid).
+    pub bad: u64,
+    /// Cells covered by two or more instances.
+    pub overlap_cells: u64,
+    /// `Σ max(0, h − 1)` over cells with hit count `h`.
+    pub overlap_hits: u64,
+    /// Lattice cells outside the grid covered by the model (each instance counts its own).
+    pub outside: u64,
+}
+
+/// Per-thread working memory of volume evaluations: hit counts per cell
+/// (all zero between evaluations), the runs to reset, and the voxelizer.
+#[derive(Clone, Debug)]
+pub struct VolumeScratch {
+    hits: Vec<u8>,
+    touched: Vec<(u32, u32)>,
+    voxelizer: Voxelizer,
+    counts: VolumeCounts,
+}
+
+impl VolumeScratch {
+    /// Working memory for `scene`.
+    #[must_use]
+    pub fn new(scene: &VolumeScene) -> Self {
+        Self {
+            hits: vec![0; scene.grid.len()],
+            touched: Vec::new(),
+            voxelizer: Voxelizer::new(),
+            counts: VolumeCounts::default(),
+        }
+    }
+
+    /// Starts counting a new model.
+    pub fn begin(&mut self) {
+        for &(start, len) in &self.touched {
+            self.hits[start as usize..(start + len) as usize].fill(0);
+        }
+        self.touched.clear();
+        self.counts = VolumeCounts::default();
+    }
+
+    /// Adds one instance of `solid`, placed by `transform`.
+    pub fn add(&mut self, scene: &VolumeScene, solid: &Solid, transform: &Affine3A) {
+        let Self {
+            hits,
+            touched,
+            voxelizer,
+            counts,
+        } = self;
+        let grid = &scene.grid;
+        voxelizer.spans(grid, solid, transform, |s| {
+            let cells = in_grid(grid, s);
+            counts.outside += (s.x1 - s.x0) as u64 - cells.len() as u64;
+            if cells.is_empty() {
+                return;
+            }
+            let (a, b) = (cells.start, cells.end);
+            touched.push((a as u32, (b - a) as u32));
+            for i in a..b {
+                let h = &mut hits[i];
+                *h = h.saturating_add(1);
+                match *h {
+                    1 => {
+                        counts.weight += f64::from(scene.weight[i]);
+                        if scene.target[i] {
+                            counts.good += 1
+                        } else {
+                            counts.bad += 1
+                        }
+                    }
+                    2 => {
+                        counts.overlap_cells += 1;
+                        counts.overlap_hits += 1;
+                    }
+                    _ => counts.overlap_hits += 1,
+                }
+            }
+        });
+    }
+
+    /// The counts of the model added since [`begin`](Self::begin).
+    #[must_use]
+    pub fn counts(&self) -> VolumeCounts {
+        self.counts
+    }
+}
+
+/// A [`ModelSink`] that voxelizes each emitted instance into a [`VolumeScratch`].
+pub struct VolumeSink<'a> {
+    /// The scene counted against.
+    pub scene: &'a VolumeScene,
+    /// One solid per shape id.
+    pub solids: &'a [Solid],
+    /// The counts so far.
+    pub scratch: &'a mut VolumeScratch,
+}
+
+impl ModelSink for VolumeSink<'_> {
+    fn emit(&mut self, shape: ShapeId, transform: &Affine3A) {
+        self.scratch
+            .add(self.scene, &self.solids[shape as usize], transform);
+    }
+}

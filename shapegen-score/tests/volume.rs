@@ -1,0 +1,195 @@
+//! Volume counts and scores against a brute-force count from per-voxel references.
+
+use std::collections::HashMap;
+
+use glam::{Affine3A, IVec3, Quat, UVec3, Vec3};
+use proptest::prelude::*;
+use shapegen_core::graph::Limits;
+use shapegen_score::score::{OverlapCount, VolumeScore, smootherstep};
+use shapegen_score::volume::{VolumeCounts, VolumeScene, VolumeScratch, VolumeTarget};
+use shapegen_score::voxelize::reference;
+use shapegen_score::{Grid, Mesh, Solid};
+
+fn grid() -> Grid {
+    Grid::new(
+        Vec3::new(-2.0, -1.0, -2.0),
+        Vec3::new(2.0, 2.0, 2.0),
+        UVec3::new(21, 13, 17),
+    )
+    .unwrap()
+}
+
+/// A 2 × 1 × 2 box target standing on y = 0, filling with weight 2 and avoided outside with −1.
+fn scene() -> VolumeScene {
+    let mut mesh = Mesh::unit_cube();
+    for p in &mut mesh.positions {
+        *p = *p * Vec3::new(2.0, 1.0, 2.0) + Vec3::new(0.0, 0.5, 0.0);
+    }
+    VolumeScene::new(
+        grid(),
+        &[VolumeTarget {
+            name: "box".into(),
+            mesh,
+            fill: 2.0,
+            outside: -1.0,
+        }],
+    )
+    .unwrap()
+}
+
+fn placement() -> impl Strategy<Value = Affine3A> {
+    (
+        (-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0, 0.1f32..1.0),
+        (0.3f32..2.0, 0.3f32..2.0, 0.3f32..2.0),
+        (-2.5f32..2.5, -1.5f32..2.5, -2.5f32..2.5),
+    )
+        .prop_map(|((a, b, c, d), (x, y, z), (tx, ty, tz))| {
+            Affine3A::from_scale_rotation_translation(
+                Vec3::new(x, y, z),
+                Quat::from_xyzw(a, b, c, d).normalize(),
+                Vec3::new(tx, ty, tz),
+            )
+        })
+}
+
+/// The counts recomputed from per-voxel reference cell sets.
+fn brute_force(scene: &VolumeScene, solid: &Solid, instances: &[Affine3A]) -> VolumeCounts {
+    let g = scene.grid();
+    let mut hits: HashMap<IVec3, u64> = HashMap::new();
+    let mut c = VolumeCounts::default();
+    for t in instances {
+        for cell in reference::cells_by_parity(g, solid, t) {
+            if g.contains(cell) {
+                *hits.entry(cell).or_default() += 1;
+            } else {
+                c.outside += 1;
+            }
+        }
+    }
+    for (cell, h) in hits {
+        let i = g.index(cell.as_uvec3());
+        let target = scene.is_target(i);
+        if target {
+            c.good += 1
+        } else {
+            c.bad += 1
+        }
+        c.weight += if target { 2.0 } else { -1.0 };
+        if h >= 2 {
+            c.overlap_cells += 1;
+        }
+        c.overlap_hits += h.saturating_sub(1);
+    }
+    c
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    #[test]
+    fn counts_match_brute_force(instances in proptest::collection::vec(placement(), 1..5), frustum in any::<bool>()) {
+        let scene = scene();
+        let mesh = if frustum { Mesh::trunk() } else { Mesh::unit_cube() };
+        let solid = Solid::new("shape", &mesh).unwrap();
+        let mut scratch = VolumeScratch::new(&scene);
+        // Two rounds: the sparse reset must leave no trace of the previous model.
+        for round in 0..2 {
+            scratch.begin();
+            let used = &instances[..instances.len() - round.min(instances.len() - 1)];
+            for t in used {
+                scratch.add(&scene, &solid, t);
+            }
+            let fast = scratch.counts();
+            let slow = brute_force(&scene, &solid, used);
+            prop_assert_eq!((fast.good, fast.bad, fast.overlap_cells, fast.overlap_hits, fast.outside),
+                            (slow.good, slow.bad, slow.overlap_cells, slow.overlap_hits, slow.outside));
+            prop_assert!((fast.weight - slow.weight).abs() < 1e-9);
+        }
+    }
+}
+
+#[test]
+fn the_target_itself_scores_the_optimum() {
+    let scene = scene();
+    assert!(scene.warnings().is_empty());
+    let t = scene.target_cells();
+    assert!(t > 0);
+    let solid = Solid::new("cube", &Mesh::unit_cube()).unwrap();
+    let mut scratch = VolumeScratch::new(&scene);
+    scratch.begin();
+    scratch.add(
+        &scene,
+        &solid,
+        &Affine3A::from_scale_rotation_translation(
+            Vec3::new(2.0, 1.0, 2.0),
+            Quat::IDENTITY,
+            Vec3::new(0.0, 0.5, 0.0),
+        ),
+    );
+    let c = scratch.counts();
+    assert_eq!((c.good, c.bad, c.overlap_cells, c.outside), (t, 0, 0, 0));
+    let limits = Limits {
+        max_depth: None,
+        min_len: 4,
+        max_len: Some(100),
+    };
+    let normalized = VolumeScore::Normalized {
+        w_good: 2.0,
+        w_bad: 15.0,
+        w_length: 0.1,
+        separate_overlap: None,
+    };
+    // At L = L_min the length term vanishes: exactly the optimum w_good.
+    assert!((normalized.score(&c, &scene, 4, &limits) - 2.0).abs() < 1e-12);
+    assert!(
+        (normalized.score(&c, &scene, 52, &limits) - (2.0 - 0.1 * smootherstep(4.0, 100.0, 52.0)))
+            .abs()
+            < 1e-12
+    );
+    let linear = VolumeScore::Linear {
+        w_self: 1.0,
+        overlap: OverlapCount::Cells,
+    };
+    assert!((linear.score(&c, &scene, 4, &limits) - 2.0 * t as f64).abs() < 1e-9);
+    // The same box twice: every cell overlaps.
+    scratch.add(
+        &scene,
+        &solid,
+        &Affine3A::from_scale_rotation_translation(
+            Vec3::new(2.0, 1.0, 2.0),
+            Quat::IDENTITY,
+            Vec3::new(0.0, 0.5, 0.0),
+        ),
+    );
+    let c2 = scratch.counts();
+    assert_eq!((c2.good, c2.overlap_cells, c2.overlap_hits), (t, t, t));
+    assert!((linear.score(&c2, &scene, 4, &limits) - (2.0 * t as f64 - t as f64)).abs() < 1e-9);
+}
+
+#[test]
+fn non_finite_weights_and_bad_meshes_are_errors() {
+    let bad = VolumeTarget {
+        name: "x".into(),
+        mesh: Mesh::unit_cube(),
+        fill: f64::NAN,
+        outside: 0.0,
+    };
+    assert!(
+        VolumeScene::new(grid(), &[bad])
+            .unwrap_err()
+            .to_string()
+            .contains("non-finite")
+    );
+    let empty = VolumeTarget {
+        name: "empty".into(),
+        mesh: Mesh::default(),
+        fill: 1.0,
+        outside: 0.0,
+    };
+    assert!(
+        VolumeScene::new(grid(), &[empty])
+            .unwrap_err()
+            .to_string()
+            .contains("no triangles")
+    );
+}
