@@ -199,13 +199,16 @@ impl VolumeScratch {
             }
             let (a, b) = (cells.start, cells.end);
             touched.push((a as u32, (b - a) as u32));
-            for i in a..b {
-                let h = &mut hits[i];
+            let cells = hits[a..b]
+                .iter_mut()
+                .zip(&scene.weight[a..b])
+                .zip(&scene.target[a..b]);
+            for ((h, &w), &target) in cells {
                 *h = h.saturating_add(1);
                 match *h {
                     1 => {
-                        counts.weight += f64::from(scene.weight[i]);
-                        if scene.target[i] {
+                        counts.weight += f64::from(w);
+                        if target {
                             counts.good += 1
                         } else {
                             counts.bad += 1
