@@ -5,6 +5,8 @@
 //! through [`ctxt`]), and generates code ([`expand`], [`body`]). Use it
 //! through `shapegen::generator!`, whose documentation describes the syntax.
 
+#![forbid(unsafe_code)]
+
 mod ast;
 mod body;
 mod check;

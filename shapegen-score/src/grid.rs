@@ -98,7 +98,8 @@ impl Grid {
     #[inline]
     #[must_use]
     pub fn first_at_or_after(&self, axis: usize, x: f64) -> i64 {
-        let mut i = ((x - self.min[axis]) / self.cell[axis] - 0.5).ceil() as i64;
+        // A truncating guess (no libm call); the loops make it exact.
+        let mut i = ((x - self.min[axis]) / self.cell[axis] - 0.5) as i64;
         while self.center_along(axis, i - 1) >= x {
             i -= 1;
         }

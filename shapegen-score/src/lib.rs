@@ -5,6 +5,8 @@
 //! leaf) and OBJ export of expressed models ([`obj`]). Voxel and silhouette
 //! scoring against volume and image targets are the next milestone.
 
+#![forbid(unsafe_code)]
+
 pub mod error;
 pub mod grid;
 pub mod mesh;

@@ -113,6 +113,7 @@ pub struct VolumeFitness<G> {
     scene: VolumeScene,
     solids: Vec<Solid>,
     score: VolumeScore,
+    limits: Limits,
 }
 
 impl<G: Generator> VolumeFitness<G> {
@@ -126,12 +127,22 @@ impl<G: Generator> VolumeFitness<G> {
         let solids = (0..generator.shapes().len())
             .map(|i| Solid::new(shapes.name(i as u16), shapes.mesh(i as u16)))
             .collect::<Result<_, _>>()?;
+        let limits = *generator.graph().limits();
         Ok(Self {
             generator,
             scene,
             solids,
             score,
+            limits,
         })
+    }
+
+    /// Uses `limits` (`L_min`, `L_max`) for the length term instead of the
+    /// generator graph's own (an experiment may set its own limits).
+    #[must_use]
+    pub fn with_limits(mut self, limits: Limits) -> Self {
+        self.limits = limits;
+        self
     }
 
     /// The scene.

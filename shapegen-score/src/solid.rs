@@ -146,6 +146,12 @@ impl Convex {
             .fold(f64::INFINITY, f64::min)
     }
 
+    /// The face planes `(n, d)`: inside iff `n · p <= d` for all.
+    #[must_use]
+    pub fn planes(&self) -> &[(DVec3, f64)] {
+        &self.planes
+    }
+
     /// The parameter interval where `o + t v` is inside, if any.
     #[must_use]
     pub fn clip(&self, o: DVec3, v: DVec3) -> Option<(f64, f64)> {

@@ -37,12 +37,62 @@ pub struct Span {
 #[derive(Clone, Debug, Default)]
 pub struct Voxelizer {
     crossings: Vec<f64>,
+    planes: Vec<RowPlane>,
+}
+
+/// A convex solid's face plane, rewritten for the rows of one instance:
+/// along row `(y, z)` the line is inside the plane for `t` with
+/// `at + y·ay + z·az + t·nv <= d`.
+#[derive(Clone, Copy, Debug)]
+struct RowPlane {
+    at: f64,
+    ay: f64,
+    az: f64,
+    nv: f64,
+    d: f64,
+}
+
+fn row_planes(c: &crate::solid::Convex, r: &Rows, out: &mut Vec<RowPlane>) {
+    out.clear();
+    out.extend(c.planes().iter().map(|&(n, d)| RowPlane {
+        at: n.dot(r.o0),
+        ay: n.dot(r.ey),
+        az: n.dot(r.ez),
+        nv: n.dot(r.dir),
+        d,
+    }));
+}
+
+/// The inside interval `[a, b) ∩ [0, len]` of row `(y, z)` for a convex solid.
+#[inline]
+fn convex_row(planes: &[RowPlane], y: f64, z: f64, len: f64) -> Option<(f64, f64)> {
+    let (mut a, mut b) = (0.0f64, len);
+    for p in planes {
+        let no = p.at + y * p.ay + z * p.az;
+        if p.nv == 0.0 {
+            if no > p.d {
+                return None;
+            }
+        } else {
+            let t = (p.d - no) / p.nv;
+            if p.nv > 0.0 {
+                b = b.min(t)
+            } else {
+                a = a.max(t)
+            }
+        }
+    }
+    (a < b).then_some((a, b))
 }
 
 /// The rows an instance covers, and how to cast along them.
 struct Rows {
-    /// World → local.
-    inv: DAffine3,
+    /// Local position of the world point `(x_start, 0, 0)`, and local images
+    /// of the world y and z axes: the line of row `(Y, Z)` starts at
+    /// `o0 + Y·ey + Z·ez` (world centres `Y`, `Z`).
+    o0: DVec3,
+    ey: DVec3,
+    ez: DVec3,
     /// Local direction of world +x.
     dir: DVec3,
     /// World x where each row's line starts, and its length.
@@ -83,14 +133,25 @@ fn rows(grid: &Grid, solid: &Solid, transform: &Affine3A) -> Option<Rows> {
         }
         e
     };
+    let x_start = wlo.x - cell.x;
     Some(Rows {
-        inv,
+        o0: inv.transform_point3(DVec3::new(x_start, 0.0, 0.0)),
+        ey: inv.matrix3 * DVec3::Y,
+        ez: inv.matrix3 * DVec3::Z,
         dir: inv.matrix3 * DVec3::X,
-        x_start: wlo.x - cell.x,
+        x_start,
         len: (whi.x - wlo.x) + 2.0 * cell.x,
         y: first(1)..end(1),
         z: first(2)..end(2),
     })
+}
+
+impl Rows {
+    /// Local start of the line of row `(y, z)` (world centre coordinates).
+    #[inline]
+    fn origin(&self, y: f64, z: f64) -> DVec3 {
+        self.o0 + y * self.ey + z * self.ez
+    }
 }
 
 fn to_f64(a: &Affine3A) -> DAffine3 {
@@ -124,17 +185,24 @@ impl Voxelizer {
         let Some(r) = rows(grid, solid, transform) else {
             return;
         };
+        if let Solid::Convex(c) = solid {
+            row_planes(c, &r, &mut self.planes);
+        }
         for z in r.z.clone() {
             let wz = grid.center_along(2, z);
             for y in r.y.clone() {
-                let origin = DVec3::new(r.x_start, grid.center_along(1, y), wz);
+                let wy = grid.center_along(1, y);
                 self.crossings.clear();
-                solid.crossings(
-                    r.inv.transform_point3(origin),
-                    r.dir,
-                    r.len,
-                    &mut self.crossings,
-                );
+                match solid {
+                    Solid::Convex(_) => {
+                        if let Some((a, b)) = convex_row(&self.planes, wy, wz, r.len) {
+                            self.crossings.extend([a, b]);
+                        }
+                    }
+                    Solid::Mesh(m) => {
+                        m.crossings(r.origin(wy, wz), r.dir, r.len, &mut self.crossings)
+                    }
+                }
                 for pair in self.crossings.chunks_exact(2) {
                     let x0 = grid.first_at_or_after(0, r.x_start + pair[0]);
                     let x1 = grid.first_at_or_after(0, r.x_start + pair[1]);
@@ -149,9 +217,9 @@ impl Voxelizer {
 
 /// Slow reference implementations, for tests and debugging.
 pub mod reference {
-    use glam::{Affine3A, DVec3, IVec3};
+    use glam::{Affine3A, IVec3};
 
-    use super::rows;
+    use super::{convex_row, row_planes, rows};
     use crate::grid::Grid;
     use crate::solid::Solid;
 
@@ -168,24 +236,22 @@ pub mod reference {
         let x_begin = grid.first_at_or_after(0, r.x_start);
         let mut out = Vec::new();
         let mut crossings = Vec::new();
+        let mut planes = Vec::new();
         for z in r.z.clone() {
             for y in r.y.clone() {
                 for x in x_begin..x_end {
-                    let origin =
-                        DVec3::new(r.x_start, grid.center_along(1, y), grid.center_along(2, z));
-                    let (o, v) = (r.inv.transform_point3(origin), r.dir);
+                    let (wy, wz) = (grid.center_along(1, y), grid.center_along(2, z));
                     crossings.clear();
                     match solid {
                         Solid::Convex(c) => {
-                            if let Some((a, b)) = c.clip(o, v) {
-                                crossings.extend(
-                                    [a.max(0.0), b.min(r.len)]
-                                        .into_iter()
-                                        .filter(|_| a.max(0.0) < b.min(r.len)),
-                                );
+                            row_planes(c, &r, &mut planes);
+                            if let Some((a, b)) = convex_row(&planes, wy, wz, r.len) {
+                                crossings.extend([a, b]);
                             }
                         }
-                        Solid::Mesh(m) => m.crossings_brute_force(o, v, &mut crossings),
+                        Solid::Mesh(m) => {
+                            m.crossings_brute_force(r.origin(wy, wz), r.dir, &mut crossings)
+                        }
                     }
                     let xc = grid.center_along(0, x);
                     let before = crossings.iter().filter(|&&t| r.x_start + t <= xc).count();
@@ -209,6 +275,7 @@ pub mod reference {
         let Some(r) = rows(grid, solid, transform) else {
             return Vec::new();
         };
+        let inv = super::to_f64(transform).inverse();
         let x_begin = grid.first_at_or_after(0, r.x_start);
         let x_end = grid.first_at_or_after(0, r.x_start + r.len) + 1;
         let mut out = Vec::new();
@@ -216,7 +283,7 @@ pub mod reference {
             for y in r.y.clone() {
                 for x in x_begin..x_end {
                     let cell = IVec3::new(x as i32, y as i32, z as i32);
-                    if c.contains(r.inv.transform_point3(grid.center(cell))) {
+                    if c.contains(inv.transform_point3(grid.center(cell))) {
                         out.push(cell);
                     }
                 }

@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use super::fitness::is_valid_score;
 use super::progress::{Candidate, Progress, evaluate};
+use super::scratch::ScratchPool;
 use super::selection::{Roulette, RouletteShift, rank_order, tournament};
 use super::{Budget, Fitness, Individual, Observer, OptimizeError, Optimizer, RunResult, purpose};
 use crate::graph::Graph;
@@ -234,7 +235,9 @@ impl Optimizer for Ga {
             return Err(OptimizeError::Params(problems.join("; ")));
         }
         let mut progress = Progress::new(*budget, observer)?;
-        let (mut population, fresh) = evaluate(fitness, self.initial_population(graph, seed)?);
+        let pool = ScratchPool::new();
+        let (mut population, fresh) =
+            evaluate(fitness, self.initial_population(graph, seed)?, &pool);
         progress.evaluations += fresh;
         let mut wheel = Roulette::default();
         let mut scores = Vec::with_capacity(self.params.population);
@@ -259,7 +262,7 @@ impl Optimizer for Ga {
                 .collect();
             // With one place left, only the pair's first child is kept.
             next.extend(children.into_iter().take(missing));
-            let (evaluated, fresh) = evaluate(fitness, next);
+            let (evaluated, fresh) = evaluate(fitness, next, &pool);
             progress.evaluations += fresh;
             population = evaluated;
         }

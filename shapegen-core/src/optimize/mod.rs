@@ -14,6 +14,7 @@ mod ga;
 mod observer;
 mod progress;
 mod random;
+mod scratch;
 mod selection;
 
 use std::time::Duration;
@@ -23,6 +24,7 @@ pub use fitness::{Fitness, FnFitness, is_valid_score};
 pub use ga::{Ga, GaParams};
 pub use observer::{GenerationStats, NoObserver, Observer};
 pub use random::RandomSearch;
+pub use scratch::{Pooled, ScratchPool, evaluate_all};
 pub use selection::{Roulette, RouletteShift, rank_order, tournament};
 
 use crate::genome::Chromosome;

@@ -9,6 +9,7 @@ use rayon::prelude::*;
 use super::budget::{Budget, StopReason};
 use super::fitness::{Fitness, is_valid_score};
 use super::observer::{GenerationStats, Observer, mean_std};
+use super::scratch::ScratchPool;
 use super::selection::rank_order;
 use super::{Individual, OptimizeError, RunResult};
 use crate::genome::Chromosome;
@@ -32,17 +33,18 @@ impl Candidate {
 
 /// Evaluates the candidates without a known fitness, in parallel.
 ///
-/// Each rayon job owns one scratch, reused across its evaluations. Evaluation
-/// is pure, so the result does not depend on the number of threads.
+/// Each rayon job borrows one scratch from `pool` (kept across generations).
+/// Evaluation is pure, so the result does not depend on the number of threads.
 pub(crate) fn evaluate<F: Fitness>(
     fitness: &F,
     candidates: Vec<Candidate>,
+    pool: &ScratchPool<F::Scratch>,
 ) -> (Vec<Individual>, u64) {
     let fresh = candidates.iter().filter(|c| c.fitness.is_none()).count() as u64;
     let individuals = candidates
         .into_par_iter()
         .map_init(
-            || fitness.scratch(),
+            || pool.take(|| fitness.scratch()),
             |scratch, c| {
                 let f = c
                     .fitness

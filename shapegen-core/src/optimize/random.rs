@@ -3,6 +3,7 @@
 use rayon::prelude::*;
 
 use super::progress::{Candidate, Progress, evaluate};
+use super::scratch::ScratchPool;
 use super::selection::rank_order;
 use super::{Budget, Fitness, Observer, OptimizeError, Optimizer, RunResult, purpose};
 use crate::graph::Graph;
@@ -35,6 +36,7 @@ impl Optimizer for RandomSearch {
             return Err(OptimizeError::Params("batch must be at least 1".into()));
         }
         let mut progress = Progress::new(*budget, observer)?;
+        let pool = ScratchPool::new();
         loop {
             let g = progress.generation;
             let batch: Vec<Candidate> = (0..self.batch as u64)
@@ -44,7 +46,7 @@ impl Optimizer for RandomSearch {
                     random_individual(graph, &self.init, &mut rng).map(Candidate::new)
                 })
                 .collect::<Result<_, _>>()?;
-            let (mut population, fresh) = evaluate(fitness, batch);
+            let (mut population, fresh) = evaluate(fitness, batch, &pool);
             progress.evaluations += fresh;
             if let Some(stop) = progress.generation_done(&population) {
                 population.sort_by(|a, b| rank_order(a.fitness, b.fitness));
