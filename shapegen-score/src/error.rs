@@ -28,6 +28,17 @@ pub enum ScoreError {
         /// What is wrong.
         reason: String,
     },
+    /// A camera that cannot be used.
+    #[error("invalid camera: {0}")]
+    Camera(String),
+    /// An image that cannot be read or written.
+    #[error("{}: {reason}", path.display())]
+    Image {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        reason: String,
+    },
     /// A target that cannot be used.
     #[error("invalid target: {0}")]
     Target(String),

@@ -7,10 +7,13 @@
 
 #![forbid(unsafe_code)]
 
+pub mod camera;
 pub mod error;
 pub mod grid;
+pub mod image;
 pub mod mesh;
 pub mod obj;
+pub mod raster;
 pub mod score;
 pub mod solid;
 pub mod volume;

@@ -6,7 +6,9 @@ use shapegen_core::graph::Limits;
 use shapegen_core::optimize::Fitness;
 
 use crate::error::ScoreError;
+use crate::image::{ImageCounts, ImageScratch, ImageSink, ImageTarget};
 use crate::obj::ShapeMeshes;
+use crate::raster::RasterShape;
 use crate::solid::Solid;
 use crate::volume::{VolumeCounts, VolumeScene, VolumeScratch, VolumeSink};
 
@@ -188,6 +190,134 @@ where
             chromosome.len(),
             self.generator.graph().limits(),
         )
+    }
+}
+
+/// Which image score, with its weights.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ImageScore {
+    /// The paper's linear score `s_img = Σ_i Σ_p covered_i(p) · I_i(p)`.
+    Linear,
+    /// The normalized form: `w_g·S(0,T,G) − w_b·S(0,T,B) − w_l·S(L_min,L_max,L)`.
+    Normalized {
+        /// `w_good`.
+        w_good: f64,
+        /// `w_bad`.
+        w_bad: f64,
+        /// `w_length`.
+        w_length: f64,
+    },
+}
+
+impl ImageScore {
+    /// The score of a model with `counts`, `len` genes, and `t` target pixels.
+    #[must_use]
+    pub fn score(&self, counts: &ImageCounts, t: u64, len: usize, limits: &Limits) -> f64 {
+        match *self {
+            Self::Linear => counts.weight,
+            Self::Normalized {
+                w_good,
+                w_bad,
+                w_length,
+            } => {
+                let t = t as f64;
+                let length = limits.max_len.map_or(0.0, |m| {
+                    smootherstep(f64::from(limits.min_len), f64::from(m), len as f64)
+                });
+                w_good * smootherstep(0.0, t, counts.good as f64)
+                    - w_bad * smootherstep(0.0, t, counts.bad as f64)
+                    - w_length * length
+            }
+        }
+    }
+}
+
+/// Scores models of a generator against image targets.
+#[derive(Clone, Debug)]
+pub struct ImageFitness<G> {
+    generator: G,
+    targets: Vec<ImageTarget>,
+    shapes: Vec<RasterShape>,
+    score: ImageScore,
+    limits: Limits,
+    target_pixels: u64,
+}
+
+impl<G: Generator> ImageFitness<G> {
+    /// A fitness for `generator`'s models against `targets`, with one mesh per shape.
+    pub fn new(
+        generator: G,
+        targets: Vec<ImageTarget>,
+        shapes: &ShapeMeshes,
+        score: ImageScore,
+    ) -> Result<Self, ScoreError> {
+        if targets.is_empty() {
+            return Err(ScoreError::Target(
+                "an image fitness needs at least one target".into(),
+            ));
+        }
+        let raster = (0..generator.shapes().len())
+            .map(|i| RasterShape::new(shapes.name(i as u16), shapes.mesh(i as u16)))
+            .collect::<Result<_, _>>()?;
+        let limits = *generator.graph().limits();
+        let target_pixels = targets.iter().map(ImageTarget::target_pixels).sum();
+        Ok(Self {
+            generator,
+            targets,
+            shapes: raster,
+            score,
+            limits,
+            target_pixels,
+        })
+    }
+
+    /// Uses `limits` for the length term instead of the generator graph's own.
+    #[must_use]
+    pub fn with_limits(mut self, limits: Limits) -> Self {
+        self.limits = limits;
+        self
+    }
+
+    /// The targets.
+    #[must_use]
+    pub fn targets(&self) -> &[ImageTarget] {
+        &self.targets
+    }
+
+    /// Renders `chromosome`'s silhouettes into `scratch` and returns the counts
+    /// (the masks stay readable through [`ImageScratch::covered`]).
+    pub fn counts(
+        &self,
+        chromosome: &Chromosome,
+        scratch: &mut (ImageScratch, Pending<G::State>),
+    ) -> ImageCounts {
+        let (image, pending) = scratch;
+        image.begin();
+        let mut sink = ImageSink {
+            targets: &self.targets,
+            shapes: &self.shapes,
+            scratch: image,
+        };
+        self.generator.express_with(chromosome, &mut sink, pending);
+        image.counts()
+    }
+}
+
+impl<G> Fitness for ImageFitness<G>
+where
+    G: Generator,
+    G::State: Send,
+{
+    type Scratch = (ImageScratch, Pending<G::State>);
+
+    fn scratch(&self) -> Self::Scratch {
+        (ImageScratch::new(&self.targets), Pending::new())
+    }
+
+    fn evaluate(&self, chromosome: &Chromosome, scratch: &mut Self::Scratch) -> f64 {
+        let counts = self.counts(chromosome, scratch);
+        self.score
+            .score(&counts, self.target_pixels, chromosome.len(), &self.limits)
     }
 }
 

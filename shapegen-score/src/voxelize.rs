@@ -154,7 +154,8 @@ impl Rows {
     }
 }
 
-fn to_f64(a: &Affine3A) -> DAffine3 {
+/// The same transform in `f64`.
+pub(crate) fn to_f64(a: &Affine3A) -> DAffine3 {
     DAffine3 {
         matrix3: DMat3::from_cols(
             a.matrix3.x_axis.as_dvec3(),

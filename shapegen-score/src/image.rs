@@ -1,0 +1,208 @@
+//! Image targets: signed weights per pixel seen through a camera, PNG
+//! sketches, counting a model's silhouette against them, and overlays.
+
+use std::path::Path;
+
+use glam::Affine3A;
+use shapegen_core::express::{ModelSink, ShapeId};
+
+use crate::camera::Camera;
+use crate::error::ScoreError;
+use crate::raster::{RasterShape, Rasterizer};
+
+/// One image target: a signed weight per pixel, seen through `camera`.
+/// Positive weights attract the silhouette, negative repel, zero is "don't care".
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImageTarget {
+    /// The camera (its size is the image's).
+    pub camera: Camera,
+    /// Row-major weights, `width × height`, row 0 at the top.
+    pub weights: Vec<f32>,
+}
+
+impl ImageTarget {
+    /// A target from weights; fails if their count does not match the camera's image size.
+    pub fn new(camera: Camera, weights: Vec<f32>) -> Result<Self, ScoreError> {
+        let n = (camera.width * camera.height) as usize;
+        if weights.len() != n {
+            return Err(ScoreError::Target(format!(
+                "{} weights for a {}×{} camera",
+                weights.len(),
+                camera.width,
+                camera.height
+            )));
+        }
+        if weights.iter().any(|w| !w.is_finite()) {
+            return Err(ScoreError::Target("image weights must be finite".into()));
+        }
+        Ok(Self { camera, weights })
+    }
+
+    /// A target from a PNG sketch: pixels whose red channel is exactly 0
+    /// are target (weight `target`), all others background (weight
+    /// `background`, e.g. negative). The PNG must have the camera's size.
+    pub fn from_png(
+        path: &Path,
+        camera: Camera,
+        target: f32,
+        background: f32,
+    ) -> Result<Self, ScoreError> {
+        let bad = |reason: String| ScoreError::Image {
+            path: path.to_path_buf(),
+            reason,
+        };
+        let img = image::open(path).map_err(|e| bad(e.to_string()))?.to_rgb8();
+        if (img.width(), img.height()) != (camera.width, camera.height) {
+            return Err(bad(format!(
+                "the image is {}×{} but the camera renders {}×{}",
+                img.width(),
+                img.height(),
+                camera.width,
+                camera.height
+            )));
+        }
+        let weights = img
+            .pixels()
+            .map(|p| if p.0[0] == 0 { target } else { background })
+            .collect();
+        Self::new(camera, weights)
+    }
+
+    /// Pixels with positive weight.
+    #[must_use]
+    pub fn target_pixels(&self) -> u64 {
+        self.weights.iter().filter(|&&w| w > 0.0).count() as u64
+    }
+
+    /// Writes a PNG of target and model: target only in light blue, model
+    /// only in red, both in green (0, 128, 0), the rest white.
+    pub fn write_overlay(&self, path: &Path, covered: &[bool]) -> Result<(), ScoreError> {
+        let (w, h) = (self.camera.width, self.camera.height);
+        let img = image::RgbImage::from_fn(w, h, |c, r| {
+            let i = (r * w + c) as usize;
+            let (t, m) = (
+                self.weights[i] > 0.0,
+                covered.get(i).copied().unwrap_or(false),
+            );
+            image::Rgb(match (t, m) {
+                (true, true) => [0, 128, 0],
+                (true, false) => [150, 190, 240],
+                (false, true) => [220, 40, 40],
+                (false, false) => [255, 255, 255],
+            })
+        });
+        img.save(path).map_err(|e| ScoreError::Image {
+            path: path.to_path_buf(),
+            reason: e.to_string(),
+        })
+    }
+}
+
+/// What one model's silhouettes cover, summed over the targets.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ImageCounts {
+    /// `Σ I(p)` over covered pixels (the paper's `s_img`).
+    pub weight: f64,
+    /// `G`: covered pixels with positive weight.
+    pub good: u64,
+    /// `B`: covered pixels with negative weight.
+    pub bad: u64,
+}
+
+/// Per-thread working memory: a coverage mask per target (all clear between
+/// evaluations), the runs to reset, and the rasterizer.
+#[derive(Clone, Debug)]
+pub struct ImageScratch {
+    covered: Vec<Vec<bool>>,
+    touched: Vec<Vec<(u32, u32)>>,
+    rasterizer: Rasterizer,
+    counts: ImageCounts,
+}
+
+impl ImageScratch {
+    /// Working memory for `targets`.
+    #[must_use]
+    pub fn new(targets: &[ImageTarget]) -> Self {
+        Self {
+            covered: targets
+                .iter()
+                .map(|t| vec![false; t.weights.len()])
+                .collect(),
+            touched: vec![Vec::new(); targets.len()],
+            rasterizer: Rasterizer::new(),
+            counts: ImageCounts::default(),
+        }
+    }
+
+    /// Starts a new model.
+    pub fn begin(&mut self) {
+        for (mask, runs) in self.covered.iter_mut().zip(&mut self.touched) {
+            for &(start, len) in runs.iter() {
+                mask[start as usize..(start + len) as usize].fill(false);
+            }
+            runs.clear();
+        }
+        self.counts = ImageCounts::default();
+    }
+
+    /// Adds one instance.
+    pub fn add(&mut self, targets: &[ImageTarget], shape: &RasterShape, transform: &Affine3A) {
+        let Self {
+            covered,
+            touched,
+            rasterizer,
+            counts,
+        } = self;
+        for ((target, mask), runs) in targets
+            .iter()
+            .zip(covered.iter_mut())
+            .zip(touched.iter_mut())
+        {
+            let w = target.camera.width;
+            rasterizer.spans(&target.camera, shape, transform, |s| {
+                let (a, b) = ((s.row * w + s.c0) as usize, (s.row * w + s.c1) as usize);
+                runs.push((a as u32, (b - a) as u32));
+                for (m, &wt) in mask[a..b].iter_mut().zip(&target.weights[a..b]) {
+                    if !*m {
+                        *m = true;
+                        counts.weight += f64::from(wt);
+                        if wt > 0.0 {
+                            counts.good += 1;
+                        } else if wt < 0.0 {
+                            counts.bad += 1;
+                        }
+                    }
+                }
+            });
+        }
+    }
+
+    /// The counts since [`begin`](Self::begin).
+    #[must_use]
+    pub fn counts(&self) -> ImageCounts {
+        self.counts
+    }
+
+    /// The coverage mask of target `i`.
+    #[must_use]
+    pub fn covered(&self, i: usize) -> &[bool] {
+        &self.covered[i]
+    }
+}
+
+/// A [`ModelSink`] rasterizing each emitted instance into an [`ImageScratch`].
+pub struct ImageSink<'a> {
+    /// The targets.
+    pub targets: &'a [ImageTarget],
+    /// One raster shape per shape id.
+    pub shapes: &'a [RasterShape],
+    /// The counts so far.
+    pub scratch: &'a mut ImageScratch,
+}
+
+impl ModelSink for ImageSink<'_> {
+    fn emit(&mut self, shape: ShapeId, transform: &Affine3A) {
+        self.scratch
+            .add(self.targets, &self.shapes[shape as usize], transform);
+    }
+}

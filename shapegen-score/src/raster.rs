@@ -1,0 +1,236 @@
+//! Exact silhouette rasterization with centre sampling.
+//!
+//! A pixel is covered iff its centre lies inside the projection of some
+//! triangle of the model (no culling, no anti-aliasing), counting only the
+//! parts of triangles at depths in `[near, far]`. Convex meshes seen whole
+//! (every vertex in the depth range) are filled as the convex hull of their
+//! projected vertices; other meshes triangle by triangle, each clipped to
+//! the depth range in view space. A polygon covers the pixels of row `r`
+//! whose centres lie in `[x_left, x_right)` where the row's centre line
+//! crosses it, for rows whose centre lies in `[y_min, y_max)` (half-open,
+//! so a centre exactly on an edge counts for one side only).
+
+use glam::{Affine3A, DVec2, DVec3};
+
+use crate::camera::Camera;
+use crate::error::ScoreError;
+use crate::mesh::Mesh;
+use crate::solid::{Convex, cross};
+
+/// A mesh prepared for rasterization.
+#[derive(Clone, Debug)]
+pub struct RasterShape {
+    positions: Vec<DVec3>,
+    triangles: Vec<[u32; 3]>,
+    convex: bool,
+}
+
+impl RasterShape {
+    /// Prepares `mesh` (named `name` in errors).
+    pub fn new(name: &str, mesh: &Mesh) -> Result<Self, ScoreError> {
+        crate::solid::Solid::new(name, mesh)?; // same validity checks
+        Ok(Self {
+            positions: mesh.positions.iter().map(|p| p.as_dvec3()).collect(),
+            triangles: mesh.triangles.clone(),
+            convex: Convex::from_mesh(mesh).is_some(),
+        })
+    }
+}
+
+/// A run of covered pixels: row `row`, columns `c0..c1` (exclusive).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PixelSpan {
+    /// Row from the top.
+    pub row: u32,
+    /// First column.
+    pub c0: u32,
+    /// One past the last column.
+    pub c1: u32,
+}
+
+/// Reusable working memory for rasterizing instances.
+#[derive(Clone, Debug, Default)]
+pub struct Rasterizer {
+    view: Vec<DVec3>,
+    clip: Vec<DVec3>,
+    clip2: Vec<DVec3>,
+    pixels: Vec<DVec2>,
+    hull: Vec<DVec2>,
+}
+
+impl Rasterizer {
+    /// Empty working memory.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Calls `f` for spans covering every pixel of the instance's silhouette
+    /// (spans of different triangles may overlap).
+    pub fn spans(
+        &mut self,
+        camera: &Camera,
+        shape: &RasterShape,
+        transform: &Affine3A,
+        mut f: impl FnMut(PixelSpan),
+    ) {
+        let m = crate::voxelize::to_f64(transform);
+        self.view.clear();
+        self.view.extend(
+            shape
+                .positions
+                .iter()
+                .map(|p| camera.view(m.transform_point3(*p))),
+        );
+        if !self.view.iter().all(|v| v.is_finite()) {
+            return;
+        }
+        if shape.convex
+            && self
+                .view
+                .iter()
+                .all(|v| v.z >= camera.near && v.z <= camera.far)
+        {
+            self.pixels.clear();
+            self.pixels
+                .extend(self.view.iter().map(|v| camera.to_pixel(*v)));
+            convex_hull(&mut self.pixels, &mut self.hull);
+            fill_convex(camera, &self.hull, &mut f);
+            return;
+        }
+        for t in &shape.triangles {
+            self.clip.clear();
+            self.clip.extend(t.iter().map(|&i| self.view[i as usize]));
+            clip_depth(&mut self.clip, &mut self.clip2, camera.near, camera.far);
+            if self.clip.len() < 3 {
+                continue;
+            }
+            self.pixels.clear();
+            self.pixels
+                .extend(self.clip.iter().map(|v| camera.to_pixel(*v)));
+            fill_convex(camera, &self.pixels, &mut f);
+        }
+    }
+}
+
+/// Clips a convex polygon in view space to `near <= Z <= far` (Sutherland–Hodgman).
+fn clip_depth(poly: &mut Vec<DVec3>, tmp: &mut Vec<DVec3>, near: f64, far: f64) {
+    for (keep, limit) in [(1.0, near), (-1.0, far)] {
+        // Inside: keep * (Z − limit) >= 0.
+        tmp.clear();
+        let n = poly.len();
+        for i in 0..n {
+            let (a, b) = (poly[i], poly[(i + 1) % n]);
+            let (da, db) = (keep * (a.z - limit), keep * (b.z - limit));
+            if da >= 0.0 {
+                tmp.push(a);
+            }
+            if (da >= 0.0) != (db >= 0.0) {
+                let s = da / (da - db);
+                let mut p = a + (b - a) * s;
+                p.z = limit;
+                tmp.push(p);
+            }
+        }
+        std::mem::swap(poly, tmp);
+        if poly.len() < 3 {
+            return;
+        }
+    }
+}
+
+/// Andrew's monotone chain: the convex hull of `pts` (counter-clockwise in pixel coordinates).
+fn convex_hull(pts: &mut [DVec2], hull: &mut Vec<DVec2>) {
+    pts.sort_unstable_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    hull.clear();
+    let turn = |o: DVec2, a: DVec2, b: DVec2| (a - o).perp_dot(b - o);
+    for pass in 0..2 {
+        let start = hull.len();
+        let iter: Box<dyn Iterator<Item = &DVec2>> = if pass == 0 {
+            Box::new(pts.iter())
+        } else {
+            Box::new(pts.iter().rev())
+        };
+        for &p in iter {
+            while hull.len() >= start + 2
+                && turn(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
+            {
+                hull.pop();
+            }
+            hull.push(p);
+        }
+        hull.pop();
+    }
+}
+
+/// Fills a convex polygon in pixel coordinates with the half-open centre rule.
+fn fill_convex(camera: &Camera, poly: &[DVec2], f: &mut impl FnMut(PixelSpan)) {
+    if poly.len() < 3 {
+        return;
+    }
+    let (mut ymin, mut ymax) = (f64::INFINITY, f64::NEG_INFINITY);
+    for p in poly {
+        ymin = ymin.min(p.y);
+        ymax = ymax.max(p.y);
+    }
+    let (w, h) = (f64::from(camera.width), f64::from(camera.height));
+    let r0 = (ymin - 0.5).ceil().max(0.0);
+    let r1 = (ymax - 0.5).ceil().min(h); // rows with centre < ymax
+    let mut r = r0;
+    while r < r1 {
+        let yc = r + 0.5;
+        let (mut xl, mut xr) = (f64::INFINITY, f64::NEG_INFINITY);
+        for i in 0..poly.len() {
+            let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+            let (lo, hi) = if a.y < b.y { (a, b) } else { (b, a) };
+            if lo.y <= yc && yc < hi.y {
+                let x = lo.x + (yc - lo.y) * (hi.x - lo.x) / (hi.y - lo.y);
+                xl = xl.min(x);
+                xr = xr.max(x);
+            }
+        }
+        if xl < xr {
+            let c0 = (xl - 0.5).ceil().max(0.0);
+            let c1 = (xr - 0.5).ceil().min(w);
+            if c0 < c1 {
+                f(PixelSpan {
+                    row: r as u32,
+                    c0: c0 as u32,
+                    c1: c1 as u32,
+                });
+            }
+        }
+        r += 1.0;
+    }
+}
+
+/// Slow reference: every pixel whose centre ray hits some triangle of some
+/// instance at a depth in `[near, far]`, by testing every triangle.
+#[must_use]
+pub fn reference_coverage(camera: &Camera, instances: &[(&RasterShape, Affine3A)]) -> Vec<bool> {
+    let tris: Vec<[DVec3; 3]> = instances
+        .iter()
+        .flat_map(|(shape, t)| {
+            let m = crate::voxelize::to_f64(t);
+            shape
+                .triangles
+                .iter()
+                .map(move |tri| tri.map(|i| m.transform_point3(shape.positions[i as usize])))
+        })
+        .collect();
+    let mut out = vec![false; (camera.width * camera.height) as usize];
+    for r in 0..camera.height {
+        for c in 0..camera.width {
+            let (o, d) = camera.pixel_ray(c, r);
+            // Depth along the ray: the forward component of `t · d` (1 per unit t in both projections).
+            let depth = |t: f64| camera.forward.dot(t * d) + camera.forward.dot(o - camera.eye);
+            out[(r * camera.width + c) as usize] = tris.iter().any(|tri| {
+                cross(tri, o, d).is_some_and(|t| {
+                    let z = depth(t);
+                    z >= camera.near && z <= camera.far
+                })
+            });
+        }
+    }
+    out
+}

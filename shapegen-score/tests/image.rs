@@ -1,0 +1,114 @@
+//! Image targets: PNG sketches, counts against brute-force coverage, overlays.
+
+use std::path::PathBuf;
+
+use glam::{Affine3A, DVec3, Quat, Vec3};
+use proptest::prelude::*;
+use shapegen_score::Mesh;
+use shapegen_score::camera::Camera;
+use shapegen_score::image::{ImageScratch, ImageTarget};
+use shapegen_score::raster::{RasterShape, reference_coverage};
+
+fn camera(w: u32, h: u32) -> Camera {
+    Camera::orbit(
+        -1.2,
+        0.3,
+        6.0,
+        DVec3::ZERO,
+        60f64.to_radians(),
+        0.1,
+        100.0,
+        (w, h),
+    )
+    .unwrap()
+}
+
+fn shared(rel: &str) -> Option<PathBuf> {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../shared")
+        .join(rel);
+    p.exists().then_some(p)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    /// G, B and the weight sum equal what the brute-force coverage gives,
+    /// and a second model counted in the same scratch starts from nothing.
+    #[test]
+    fn counts_match_brute_force(instances in proptest::collection::vec(((-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0, 0.1f32..1.0), (-1.5f32..1.5, -1.5f32..1.5, -1.5f32..1.5)), 1..5)) {
+        let cam = camera(48, 36);
+        // A checkerboard of attracting (+1), repelling (−2) and don't-care (0) pixels.
+        let weights: Vec<f32> = (0..48 * 36).map(|i| [1.0, -2.0, 0.0][(i / 5 + i / 48) % 3]).collect();
+        let target = ImageTarget::new(cam, weights.clone()).unwrap();
+        let cube = RasterShape::new("cube", &Mesh::unit_cube()).unwrap();
+        let placed: Vec<(&RasterShape, Affine3A)> = instances
+            .iter()
+            .map(|((a, b, c, d), (x, y, z))| (&cube, Affine3A::from_rotation_translation(Quat::from_xyzw(*a, *b, *c, *d).normalize(), Vec3::new(*x, *y, *z))))
+            .collect();
+        let mut scratch = ImageScratch::new(std::slice::from_ref(&target));
+        for round in 0..2 {
+            let used = &placed[..placed.len() - round.min(placed.len() - 1)];
+            scratch.begin();
+            for (shape, t) in used {
+                scratch.add(std::slice::from_ref(&target), shape, t);
+            }
+            let c = scratch.counts();
+            let cover = reference_coverage(&cam, used);
+            let good = cover.iter().zip(&weights).filter(|(c, w)| **c && **w > 0.0).count() as u64;
+            let bad = cover.iter().zip(&weights).filter(|(c, w)| **c && **w < 0.0).count() as u64;
+            let weight: f64 = cover.iter().zip(&weights).filter(|(c, _)| **c).map(|(_, w)| f64::from(*w)).sum();
+            prop_assert_eq!((c.good, c.bad), (good, bad));
+            prop_assert!((c.weight - weight).abs() < 1e-9);
+            prop_assert_eq!(scratch.covered(0), &cover[..]);
+        }
+    }
+}
+
+#[test]
+fn png_sketches_load_with_the_red_channel_rule() {
+    let Some(path) = shared("data/paper/tree_target_sketch1.png") else {
+        eprintln!("skipping: ../shared/data/paper/tree_target_sketch1.png is not there");
+        return;
+    };
+    let t = ImageTarget::from_png(&path, camera(800, 600), 1.0, -1.0).unwrap();
+    // The notes count 42,320 pixels with red = 0 (anti-aliased grey ones are not target).
+    assert_eq!(t.target_pixels(), 42_320);
+    let err = ImageTarget::from_png(&path, camera(640, 480), 1.0, -1.0)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("800×600") && err.contains("640×480"), "{err}");
+}
+
+#[test]
+fn bad_images_are_clear_errors_and_overlays_round_trip() {
+    let dir = std::env::temp_dir().join(format!("shapegen-image-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let garbage = dir.join("garbage.png");
+    std::fs::write(&garbage, b"not a png at all").unwrap();
+    let err = ImageTarget::from_png(&garbage, camera(8, 8), 1.0, -1.0)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("garbage.png"), "{err}");
+    let missing = ImageTarget::from_png(&dir.join("missing.png"), camera(8, 8), 1.0, -1.0)
+        .unwrap_err()
+        .to_string();
+    assert!(missing.contains("missing.png"), "{missing}");
+    assert!(ImageTarget::new(camera(8, 8), vec![0.0; 63]).is_err());
+    assert!(ImageTarget::new(camera(8, 8), vec![f32::NAN; 64]).is_err());
+    // Overlay: target left half, model top half.
+    let t = ImageTarget::new(
+        camera(8, 8),
+        (0..64)
+            .map(|i| if i % 8 < 4 { 1.0 } else { -1.0 })
+            .collect(),
+    )
+    .unwrap();
+    let covered: Vec<bool> = (0..64).map(|i| i < 32).collect();
+    let out = dir.join("overlay.png");
+    t.write_overlay(&out, &covered).unwrap();
+    let back = ImageTarget::from_png(&out, camera(8, 8), 1.0, 0.0).unwrap();
+    // Red is 0 only for "both" (dark green): the top-left quarter.
+    assert_eq!(back.target_pixels(), 16);
+    std::fs::remove_dir_all(&dir).ok();
+}

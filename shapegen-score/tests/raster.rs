@@ -1,0 +1,93 @@
+//! Exactness of the silhouette rasterizer against per-pixel ray casting.
+
+use glam::{Affine3A, DVec3, Quat, Vec3};
+use proptest::prelude::*;
+use shapegen_score::Mesh;
+use shapegen_score::camera::Camera;
+use shapegen_score::raster::{RasterShape, Rasterizer, reference_coverage};
+
+/// Two disjoint cubes: a non-convex mesh, rasterized triangle by triangle.
+fn two_cubes() -> Mesh {
+    let mut m = Mesh::unit_cube();
+    let n = m.positions.len() as u32;
+    let second: Vec<Vec3> = m
+        .positions
+        .iter()
+        .map(|p| *p * 0.5 + Vec3::new(1.2, 0.3, 0.0))
+        .collect();
+    let tris: Vec<[u32; 3]> = m.triangles.iter().map(|t| t.map(|i| i + n)).collect();
+    m.positions.extend(second);
+    m.triangles.extend(tris);
+    m
+}
+
+fn placement() -> impl Strategy<Value = Affine3A> {
+    (
+        (-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0, 0.1f32..1.0),
+        (0.2f32..2.0, 0.2f32..2.0, 0.2f32..2.0),
+        (-2.0f32..2.0, -2.0f32..2.0, -2.0f32..2.0),
+    )
+        .prop_map(|((a, b, c, d), (x, y, z), (tx, ty, tz))| {
+            Affine3A::from_scale_rotation_translation(
+                Vec3::new(x, y, z),
+                Quat::from_xyzw(a, b, c, d).normalize(),
+                Vec3::new(tx, ty, tz),
+            )
+        })
+}
+
+fn camera() -> impl Strategy<Value = Camera> {
+    prop_oneof![
+        // Perspective orbits; a near plane of up to 3 clips models that come close.
+        (-3.2f64..3.2, -1.2f64..1.2, 2.0f64..8.0, 0.05f64..3.0).prop_map(
+            |(phi, theta, r, near)| {
+                Camera::orbit(
+                    phi,
+                    theta,
+                    r,
+                    DVec3::ZERO,
+                    60f64.to_radians(),
+                    near,
+                    near + 6.0,
+                    (64, 48),
+                )
+                .unwrap()
+            }
+        ),
+        (-1.0f64..1.0, -1.0f64..1.0).prop_map(|(x, y)| {
+            Camera::orthographic(
+                DVec3::new(x, y, -6.0),
+                DVec3::Z,
+                DVec3::Y,
+                6.0,
+                0.1,
+                12.0,
+                (64, 48),
+            )
+            .unwrap()
+        }),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 128, ..ProptestConfig::default() })]
+
+    #[test]
+    fn silhouettes_equal_ray_casting(cam in camera(), placements in proptest::collection::vec((placement(), 0usize..4), 1..4)) {
+        let shapes = [Mesh::unit_cube(), Mesh::trunk(), Mesh::leaf(), two_cubes()]
+            .map(|m| RasterShape::new("shape", &m).unwrap());
+        let instances: Vec<(&RasterShape, Affine3A)> = placements.iter().map(|(t, k)| (&shapes[*k], *t)).collect();
+        let mut fast = vec![false; (cam.width * cam.height) as usize];
+        let mut rasterizer = Rasterizer::new();
+        for (shape, t) in &instances {
+            rasterizer.spans(&cam, shape, t, |s| {
+                for c in s.c0..s.c1 {
+                    fast[(s.row * cam.width + c) as usize] = true;
+                }
+            });
+        }
+        let slow = reference_coverage(&cam, &instances);
+        let differ: Vec<usize> = (0..fast.len()).filter(|&i| fast[i] != slow[i]).collect();
+        prop_assert!(differ.is_empty(), "{} pixels differ, e.g. {:?}", differ.len(), &differ[..differ.len().min(5)]);
+    }
+}
