@@ -153,17 +153,31 @@ impl Camera {
     #[inline]
     #[must_use]
     pub fn to_pixel(&self, v: DVec3) -> DVec2 {
+        self.projector().to_pixel(v)
+    }
+
+    /// The projection's constants, computed once for many points.
+    #[must_use]
+    pub fn projector(&self) -> Projector {
         let (w, h) = (f64::from(self.width), f64::from(self.height));
-        let (x, y) = match self.projection {
+        let (sx, sy, perspective) = match self.projection {
             Projection::Perspective { fov_y } => {
                 let t = (0.5 * fov_y).tan();
-                (v.x / (v.z * t * (w / h)), v.y / (v.z * t))
+                (0.5 * w / (t * (w / h)), 0.5 * h / t, true)
             }
-            Projection::Orthographic { height } => {
-                (v.x / (0.5 * height * (w / h)), v.y / (0.5 * height))
-            }
+            Projection::Orthographic { height } => (
+                0.5 * w / (0.5 * height * (w / h)),
+                0.5 * h / (0.5 * height),
+                false,
+            ),
         };
-        DVec2::new(0.5 * w * (1.0 + x), 0.5 * h * (1.0 - y))
+        Projector {
+            cx: 0.5 * w,
+            cy: 0.5 * h,
+            sx,
+            sy,
+            perspective,
+        }
     }
 
     /// The ray through the centre of pixel `(c, r)`: origin and direction
@@ -187,6 +201,30 @@ impl Camera {
                 (o, self.forward)
             }
         }
+    }
+}
+
+/// A camera's projection constants: view space to pixel coordinates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Projector {
+    cx: f64,
+    cy: f64,
+    sx: f64,
+    sy: f64,
+    perspective: bool,
+}
+
+impl Projector {
+    /// Pixel coordinates of a view-space point (`Z > 0` for perspective).
+    #[inline]
+    #[must_use]
+    pub fn to_pixel(&self, v: DVec3) -> DVec2 {
+        let (x, y) = if self.perspective {
+            (v.x / v.z, v.y / v.z)
+        } else {
+            (v.x, v.y)
+        };
+        DVec2::new(self.cx + self.sx * x, self.cy - self.sy * y)
     }
 }
 

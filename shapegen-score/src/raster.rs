@@ -56,7 +56,11 @@ pub struct Rasterizer {
     clip2: Vec<DVec3>,
     pixels: Vec<DVec2>,
     hull: Vec<DVec2>,
+    edges: Vec<Edge>,
 }
+
+/// A non-horizontal polygon edge: lower end, upper end, dx/dy.
+type Edge = (DVec2, DVec2, f64);
 
 impl Rasterizer {
     /// Empty working memory.
@@ -85,30 +89,38 @@ impl Rasterizer {
         if !self.view.iter().all(|v| v.is_finite()) {
             return;
         }
-        if shape.convex
-            && self
-                .view
-                .iter()
-                .all(|v| v.z >= camera.near && v.z <= camera.far)
-        {
+        let proj = camera.projector();
+        let in_range = |v: &DVec3| v.z >= camera.near && v.z <= camera.far;
+        if shape.convex && self.view.iter().all(in_range) {
             self.pixels.clear();
             self.pixels
-                .extend(self.view.iter().map(|v| camera.to_pixel(*v)));
+                .extend(self.view.iter().map(|v| proj.to_pixel(*v)));
             convex_hull(&mut self.pixels, &mut self.hull);
-            fill_convex(camera, &self.hull, &mut f);
+            fill_convex(camera, &self.hull, &mut self.edges, &mut f);
             return;
         }
+        // Project every vertex once (those behind a perspective eye are only
+        // used through clipping); triangles wholly in range need no clipping.
+        self.pixels.clear();
+        self.pixels
+            .extend(self.view.iter().map(|v| proj.to_pixel(*v)));
         for t in &shape.triangles {
+            let [a, b, c] = t.map(|i| i as usize);
+            if in_range(&self.view[a]) && in_range(&self.view[b]) && in_range(&self.view[c]) {
+                let tri = [self.pixels[a], self.pixels[b], self.pixels[c]];
+                fill_convex(camera, &tri, &mut self.edges, &mut f);
+                continue;
+            }
             self.clip.clear();
-            self.clip.extend(t.iter().map(|&i| self.view[i as usize]));
+            self.clip.extend([self.view[a], self.view[b], self.view[c]]);
             clip_depth(&mut self.clip, &mut self.clip2, camera.near, camera.far);
             if self.clip.len() < 3 {
                 continue;
             }
-            self.pixels.clear();
-            self.pixels
-                .extend(self.clip.iter().map(|v| camera.to_pixel(*v)));
-            fill_convex(camera, &self.pixels, &mut f);
+            self.hull.clear();
+            self.hull
+                .extend(self.clip.iter().map(|v| proj.to_pixel(*v)));
+            fill_convex(camera, &self.hull, &mut self.edges, &mut f);
         }
     }
 }
@@ -163,9 +175,21 @@ fn convex_hull(pts: &mut [DVec2], hull: &mut Vec<DVec2>) {
     }
 }
 
+/// `ceil(x)` without a libm call (exact for |x| < 2⁵²).
+#[inline]
+fn ceil(x: f64) -> f64 {
+    let t = x as i64 as f64;
+    if t < x { t + 1.0 } else { t }
+}
+
 /// Fills a convex polygon in pixel coordinates with the half-open centre rule.
-fn fill_convex(camera: &Camera, poly: &[DVec2], f: &mut impl FnMut(PixelSpan)) {
-    if poly.len() < 3 {
+fn fill_convex(
+    camera: &Camera,
+    poly: &[DVec2],
+    edges: &mut Vec<Edge>,
+    f: &mut impl FnMut(PixelSpan),
+) {
+    if poly.len() < 3 || !poly.iter().all(|p| p.is_finite()) {
         return;
     }
     let (mut ymin, mut ymax) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -174,24 +198,33 @@ fn fill_convex(camera: &Camera, poly: &[DVec2], f: &mut impl FnMut(PixelSpan)) {
         ymax = ymax.max(p.y);
     }
     let (w, h) = (f64::from(camera.width), f64::from(camera.height));
-    let r0 = (ymin - 0.5).ceil().max(0.0);
-    let r1 = (ymax - 0.5).ceil().min(h); // rows with centre < ymax
+    let r0 = ceil(ymin.max(-1.0) - 0.5).max(0.0);
+    let r1 = ceil(ymax.min(h + 1.0) - 0.5).min(h); // rows with centre < ymax
+    if r0 >= r1 {
+        return;
+    }
+    edges.clear();
+    for i in 0..poly.len() {
+        let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+        if a.y != b.y {
+            let (lo, hi) = if a.y < b.y { (a, b) } else { (b, a) };
+            edges.push((lo, hi, (hi.x - lo.x) / (hi.y - lo.y)));
+        }
+    }
     let mut r = r0;
     while r < r1 {
         let yc = r + 0.5;
         let (mut xl, mut xr) = (f64::INFINITY, f64::NEG_INFINITY);
-        for i in 0..poly.len() {
-            let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
-            let (lo, hi) = if a.y < b.y { (a, b) } else { (b, a) };
+        for &(lo, hi, slope) in edges.iter() {
             if lo.y <= yc && yc < hi.y {
-                let x = lo.x + (yc - lo.y) * (hi.x - lo.x) / (hi.y - lo.y);
+                let x = lo.x + (yc - lo.y) * slope;
                 xl = xl.min(x);
                 xr = xr.max(x);
             }
         }
         if xl < xr {
-            let c0 = (xl - 0.5).ceil().max(0.0);
-            let c1 = (xr - 0.5).ceil().min(w);
+            let c0 = ceil(xl.max(-1.0) - 0.5).max(0.0);
+            let c1 = ceil(xr.min(w + 1.0) - 0.5).min(w);
             if c0 < c1 {
                 f(PixelSpan {
                     row: r as u32,
