@@ -156,23 +156,23 @@ fn convex_hull(pts: &mut [DVec2], hull: &mut Vec<DVec2>) {
     pts.sort_unstable_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
     hull.clear();
     let turn = |o: DVec2, a: DVec2, b: DVec2| (a - o).perp_dot(b - o);
-    for pass in 0..2 {
-        let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &DVec2>> = if pass == 0 {
-            Box::new(pts.iter())
-        } else {
-            Box::new(pts.iter().rev())
-        };
-        for &p in iter {
-            while hull.len() >= start + 2
-                && turn(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
-            {
-                hull.pop();
-            }
-            hull.push(p);
+    let mut push = |hull: &mut Vec<DVec2>, start: usize, p: DVec2| {
+        while hull.len() >= start + 2 && turn(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
+        {
+            hull.pop();
         }
-        hull.pop();
+        hull.push(p);
+    };
+    // Lower chain left to right, then upper chain right to left; each drops its last point.
+    for &p in pts.iter() {
+        push(hull, 0, p);
     }
+    hull.pop();
+    let start = hull.len();
+    for &p in pts.iter().rev() {
+        push(hull, start, p);
+    }
+    hull.pop();
 }
 
 /// `ceil(x)` without a libm call (exact for |x| < 2⁵²).
