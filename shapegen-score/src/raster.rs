@@ -156,7 +156,7 @@ fn convex_hull(pts: &mut [DVec2], hull: &mut Vec<DVec2>) {
     pts.sort_unstable_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
     hull.clear();
     let turn = |o: DVec2, a: DVec2, b: DVec2| (a - o).perp_dot(b - o);
-    let mut push = |hull: &mut Vec<DVec2>, start: usize, p: DVec2| {
+    let push = |hull: &mut Vec<DVec2>, start: usize, p: DVec2| {
         while hull.len() >= start + 2 && turn(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
         {
             hull.pop();
