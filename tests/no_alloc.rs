@@ -140,7 +140,7 @@ fn volume_evaluation_allocates_nothing_after_warm_up() {
 #[test]
 fn image_evaluation_allocates_nothing_after_warm_up() {
     let camera = Camera::orbit(
-        -1.5708,
+        -std::f64::consts::FRAC_PI_2,
         0.2,
         9.0,
         DVec3::new(0.0, 2.0, 0.0),
@@ -153,7 +153,7 @@ fn image_evaluation_allocates_nothing_after_warm_up() {
     // A disc of target pixels in the middle of the image.
     let weights = (0..160 * 120)
         .map(|i| {
-            if ((i % 160) as i32 - 80).pow(2) + ((i / 160) as i32 - 50).pow(2) < 1600 {
+            if ((i % 160) - 80i32).pow(2) + ((i / 160) - 50i32).pow(2) < 1600 {
                 1.0
             } else {
                 -1.0
