@@ -1,7 +1,8 @@
 //! Image targets: PNG sketches, counts against brute-force coverage, overlays.
 
-use std::path::PathBuf;
+mod common;
 
+use common::shared;
 use glam::{Affine3A, DVec3, Quat, Vec3};
 use proptest::prelude::*;
 use shapegen_score::Mesh;
@@ -21,13 +22,6 @@ fn camera(w: u32, h: u32) -> Camera {
         (w, h),
     )
     .unwrap()
-}
-
-fn shared(rel: &str) -> Option<PathBuf> {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../shared")
-        .join(rel);
-    p.exists().then_some(p)
 }
 
 proptest! {

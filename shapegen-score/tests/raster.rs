@@ -1,6 +1,9 @@
 //! Exactness of the silhouette rasterizer against per-pixel ray casting.
 
-use glam::{Affine3A, DVec3, Quat, Vec3};
+mod common;
+
+use common::placement;
+use glam::{Affine3A, DVec3, Vec3};
 use proptest::prelude::*;
 use shapegen_score::Mesh;
 use shapegen_score::camera::Camera;
@@ -19,21 +22,6 @@ fn two_cubes() -> Mesh {
     m.positions.extend(second);
     m.triangles.extend(tris);
     m
-}
-
-fn placement() -> impl Strategy<Value = Affine3A> {
-    (
-        (-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0, 0.1f32..1.0),
-        (0.2f32..2.0, 0.2f32..2.0, 0.2f32..2.0),
-        (-2.0f32..2.0, -2.0f32..2.0, -2.0f32..2.0),
-    )
-        .prop_map(|((a, b, c, d), (x, y, z), (tx, ty, tz))| {
-            Affine3A::from_scale_rotation_translation(
-                Vec3::new(x, y, z),
-                Quat::from_xyzw(a, b, c, d).normalize(),
-                Vec3::new(tx, ty, tz),
-            )
-        })
 }
 
 fn camera() -> impl Strategy<Value = Camera> {
@@ -73,7 +61,7 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 128, ..ProptestConfig::default() })]
 
     #[test]
-    fn silhouettes_equal_ray_casting(cam in camera(), placements in proptest::collection::vec((placement(), 0usize..4), 1..4)) {
+    fn silhouettes_equal_ray_casting(cam in camera(), placements in proptest::collection::vec((placement(0.2..2.0, Vec3::splat(-2.0), Vec3::splat(2.0)), 0usize..4), 1..4)) {
         let shapes = [Mesh::unit_cube(), Mesh::trunk(), Mesh::leaf(), two_cubes()]
             .map(|m| RasterShape::new("shape", &m).unwrap());
         let instances: Vec<(&RasterShape, Affine3A)> = placements.iter().map(|(t, k)| (&shapes[*k], *t)).collect();

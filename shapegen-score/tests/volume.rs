@@ -1,7 +1,10 @@
 //! Volume counts and scores against a brute-force count from per-voxel references.
 
+mod common;
+
 use std::collections::HashMap;
 
+use common::placement;
 use glam::{Affine3A, IVec3, Quat, UVec3, Vec3};
 use proptest::prelude::*;
 use shapegen_core::graph::Limits;
@@ -35,21 +38,6 @@ fn scene() -> VolumeScene {
         }],
     )
     .unwrap()
-}
-
-fn placement() -> impl Strategy<Value = Affine3A> {
-    (
-        (-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0, 0.1f32..1.0),
-        (0.3f32..2.0, 0.3f32..2.0, 0.3f32..2.0),
-        (-2.5f32..2.5, -1.5f32..2.5, -2.5f32..2.5),
-    )
-        .prop_map(|((a, b, c, d), (x, y, z), (tx, ty, tz))| {
-            Affine3A::from_scale_rotation_translation(
-                Vec3::new(x, y, z),
-                Quat::from_xyzw(a, b, c, d).normalize(),
-                Vec3::new(tx, ty, tz),
-            )
-        })
 }
 
 /// The counts recomputed from per-voxel reference cell sets.
@@ -87,7 +75,7 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
 
     #[test]
-    fn counts_match_brute_force(instances in proptest::collection::vec(placement(), 1..5), frustum in any::<bool>()) {
+    fn counts_match_brute_force(instances in proptest::collection::vec(placement(0.3..2.0, Vec3::new(-2.5, -1.5, -2.5), Vec3::splat(2.5)), 1..5), frustum in any::<bool>()) {
         let scene = scene();
         let mesh = if frustum { Mesh::trunk() } else { Mesh::unit_cube() };
         let solid = Solid::new("shape", &mesh).unwrap();

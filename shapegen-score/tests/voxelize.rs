@@ -1,10 +1,12 @@
 //! Exactness of the span voxelizer against per-voxel references, on random
 //! transforms of the cube, the trunk frustum and real meshes.
 
-use std::collections::HashSet;
-use std::path::PathBuf;
+mod common;
 
-use glam::{Affine3A, IVec3, Quat, UVec3, Vec3};
+use std::collections::HashSet;
+
+use common::{placement, shared};
+use glam::{Affine3A, IVec3, UVec3, Vec3};
 use proptest::prelude::*;
 use shapegen_score::solid::MeshSolid;
 use shapegen_score::voxelize::reference;
@@ -23,19 +25,6 @@ fn cells(grid: &Grid, solid: &Solid, t: &Affine3A) -> HashSet<IVec3> {
     out
 }
 
-/// A random placement: rotation, non-uniform scale and translation.
-fn transform() -> impl Strategy<Value = Affine3A> {
-    (
-        (-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0),
-        (0.2f32..2.5, 0.2f32..2.5, 0.2f32..2.5),
-        (-2.5f32..2.5, -2.5f32..2.5, -2.5f32..2.5),
-    )
-        .prop_map(|((a, b, c, d), (sx, sy, sz), (x, y, z))| {
-            let q = Quat::from_xyzw(a, b, c, d + 1e-3).normalize();
-            Affine3A::from_scale_rotation_translation(Vec3::new(sx, sy, sz), q, Vec3::new(x, y, z))
-        })
-}
-
 fn grid() -> Grid {
     // Anisotropic cells; instances may reach outside the grid (lattice cells).
     Grid::new(
@@ -46,14 +35,6 @@ fn grid() -> Grid {
     .unwrap()
 }
 
-/// The repository's shared data folder (beside the checkout), if present.
-fn shared(rel: &str) -> Option<PathBuf> {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../shared")
-        .join(rel);
-    p.exists().then_some(p)
-}
-
 proptest! {
     #![proptest_config(ProptestConfig { cases: 96, ..ProptestConfig::default() })]
 
@@ -61,7 +42,7 @@ proptest! {
     /// reference exactly, and the independent plane test except for centres
     /// on the surface (ties, |distance| < 1e-9).
     #[test]
-    fn convex_spans_are_exact(t in transform(), frustum in any::<bool>()) {
+    fn convex_spans_are_exact(t in placement(0.2..2.5, Vec3::splat(-2.5), Vec3::splat(2.5)), frustum in any::<bool>()) {
         let mesh = if frustum { Mesh::trunk() } else { Mesh::unit_cube() };
         let solid = Solid::new("shape", &mesh).unwrap();
         prop_assert!(matches!(solid, Solid::Convex(_)));
@@ -81,7 +62,7 @@ proptest! {
     /// The BVH path on the cube mesh equals the parity reference, and the
     /// analytic convex path except at ties.
     #[test]
-    fn bvh_spans_are_exact_on_the_cube(t in transform()) {
+    fn bvh_spans_are_exact_on_the_cube(t in placement(0.2..2.5, Vec3::splat(-2.5), Vec3::splat(2.5))) {
         let cube = Mesh::unit_cube();
         let bvh = Solid::Mesh(MeshSolid::new(&cube));
         let g = grid();
@@ -99,7 +80,7 @@ proptest! {
 
     /// A real watertight mesh from `../shared/data/models/`.
     #[test]
-    fn bvh_spans_are_exact_on_a_real_mesh(t in transform()) {
+    fn bvh_spans_are_exact_on_a_real_mesh(t in placement(0.2..2.5, Vec3::splat(-2.5), Vec3::splat(2.5))) {
         let Some(path) = shared("data/models/spot.obj") else {
             eprintln!("skipping: ../shared/data/models/spot.obj is not there");
             return Ok(());
