@@ -1,5 +1,8 @@
-//! A small built-in problem with a known optimum, used by `cargo run` until a
-//! geometric target is chosen, and by the tests.
+//! Built-in problems that need no files.
+//!
+//! - [`spaceship_target`]: a ship-shaped volume made of boxes, the target of
+//!   `cargo run` (the paper's spaceship generator evolves toward it).
+//! - The *blocks* problem, with a known optimum, used by the tests.
 //!
 //! The *blocks* generator grows a binary tree of blocks, each with a
 //! parameter `x` in `[0, 1]`. The [`BlocksTarget`] fitness asks for exactly
@@ -10,8 +13,11 @@
 //! Its optimum, reached only by `n` blocks all at `x = 0.5`, is exactly 1.
 
 use crate::genome::Chromosome;
+use crate::glam::Vec3;
 use crate::graph::{Dist, Graph, GraphBuilder, Limits};
 use crate::optimize::Fitness;
+use crate::score::Mesh;
+use crate::score::volume::VolumeTarget;
 
 /// The blocks generator: `Start → Block`, each `Block` with parameter `x`
 /// and two optional child blocks (`p = 0.4` each).
@@ -59,4 +65,34 @@ impl Fitness for BlocksTarget<'_> {
         let n = self.blocks.max(1) as f64;
         (sum - 2.0 * (count as f64 - n).abs()) / n
     }
+}
+
+/// The built-in target of `cargo run`: a ship-shaped volume (a hull along +z
+/// with a cockpit on top and wings on both sides), as abutting boxes, one
+/// [`VolumeTarget`] each (filled with weight 1, nothing penalized outside).
+#[must_use]
+pub fn spaceship_target() -> Vec<VolumeTarget> {
+    // (centre, size) of each box, in world units; z is the ship's length.
+    let boxes = [
+        (Vec3::new(0.0, 0.0, 3.0), Vec3::new(1.6, 1.0, 6.0)), // hull
+        (Vec3::new(0.0, 0.9, 2.5), Vec3::new(0.8, 0.8, 1.6)), // cockpit
+        (Vec3::new(1.8, 0.0, 2.0), Vec3::new(2.0, 0.3, 2.4)), // right wing
+        (Vec3::new(-1.8, 0.0, 2.0), Vec3::new(2.0, 0.3, 2.4)), // left wing
+    ];
+    boxes
+        .iter()
+        .enumerate()
+        .map(|(i, &(centre, size))| {
+            let mut mesh = Mesh::unit_cube();
+            for p in &mut mesh.positions {
+                *p = *p * size + centre;
+            }
+            VolumeTarget {
+                name: format!("ship part {i}"),
+                mesh,
+                fill: 1.0,
+                outside: 0.0,
+            }
+        })
+        .collect()
 }

@@ -1,7 +1,7 @@
 //! The `shapegen` command line.
 //!
-//! With no arguments it runs the built-in demo: the genetic algorithm evolves
-//! a tree of blocks toward a known optimum and writes its results to `out/`.
+//! With no arguments it evolves the paper's spaceship generator toward a
+//! built-in ship-shaped target volume and writes the results to `out/`.
 
 use std::error::Error;
 use std::fs;
@@ -11,8 +11,14 @@ use std::path::{Path, PathBuf};
 
 use clap::Parser;
 use serde::Serialize;
-use shapegen::demo::{BlocksTarget, blocks_graph};
+use shapegen::demo::spaceship_target;
+use shapegen::glam::{UVec3, Vec3};
 use shapegen::prelude::*;
+use shapegen::scenes::Spaceship;
+use shapegen::score::Grid;
+use shapegen::score::obj::{ShapeMeshes, write_model};
+use shapegen::score::score::{VolumeFitness, VolumeScore};
+use shapegen::score::volume::VolumeScene;
 
 /// Evolves procedural models toward a target with a genetic algorithm.
 #[derive(Debug, Parser)]
@@ -22,11 +28,8 @@ struct Args {
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Generations to run.
-    #[arg(long, default_value_t = 1000)]
+    #[arg(long, default_value_t = 400)]
     generations: u64,
-    /// Number of blocks the demo target asks for.
-    #[arg(long, default_value_t = 40)]
-    blocks: usize,
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
@@ -39,11 +42,15 @@ struct Args {
 #[derive(Serialize)]
 struct Summary<'a> {
     generator: &'a str,
+    target: &'a str,
     method: &'a str,
     seed: u64,
     optimum: f64,
     best_fitness: f64,
     best_genes: usize,
+    target_cells: u64,
+    covered_target_cells: u64,
+    covered_other_cells: u64,
     evaluations: u64,
     generations: u64,
     seconds: f64,
@@ -63,31 +70,38 @@ fn main() {
 }
 
 fn run(args: Args) -> Result<(), Box<dyn Error>> {
-    if args.blocks == 0 {
-        return Err("--blocks must be at least 1".into());
-    }
     if let Some(threads) = args.threads {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build_global()?;
     }
-    let graph = blocks_graph();
-    let fitness = BlocksTarget {
-        graph: &graph,
-        blocks: args.blocks,
+    // The paper's spaceship scene setup (normalized score 2 / 15 / 0.1,
+    // lengths 4 <= L < 100), on the paper's 100×200×100 grid.
+    let limits = Limits {
+        max_depth: Some(15),
+        min_len: 4,
+        max_len: Some(100),
     };
-    let params = GaParams {
-        population: 150,
-        elites: 30,
-        init: InitLength::Around {
-            l0: args.blocks as u32,
-        },
-        ..GaParams::paper_spaceship()
+    let graph = Graph::new(Spaceship::spec().clone().with_limits(limits))?;
+    let grid = Grid::new(
+        Vec3::new(-5.0, -5.0, -2.0),
+        Vec3::new(5.0, 5.0, 18.0),
+        UVec3::new(100, 200, 100),
+    )?;
+    let targets = spaceship_target();
+    let scene = VolumeScene::new(grid, &targets)?;
+    let score = VolumeScore::Normalized {
+        w_good: 2.0,
+        w_bad: 15.0,
+        w_length: 0.1,
+        separate_overlap: None,
     };
-    let budget = Budget::generations(args.generations).and_target_fitness(1.0);
+    let fitness = VolumeFitness::new(Spaceship, scene, &ShapeMeshes::builtin(&Spaceship)?, score)?
+        .with_limits(limits);
     println!(
-        "shapegen demo: evolving a tree of {} blocks with x = 0.5 (optimum fitness 1.0), seed {}",
-        args.blocks, args.seed
+        "shapegen: evolving spaceships (paper Fig. 4a) toward a built-in ship-shaped volume of {} cells; optimum 2.0, seed {}",
+        fitness.scene().target_cells(),
+        args.seed
     );
     let mut curve = String::from("generation,seconds,evaluations,best,mean,std\n");
     let mut observer = |s: &GenerationStats<'_>| {
@@ -102,66 +116,103 @@ fn run(args: Args) -> Result<(), Box<dyn Error>> {
         ));
         if s.generation.is_multiple_of(25) {
             println!(
-                "  generation {:>4}  evaluations {:>7}  best {:>8.4}  mean {:>8.4}",
-                s.generation, s.evaluations, s.best, s.mean
+                "  generation {:>4}  evaluations {:>7}  best {:>8.4}  mean {:>8.4}  ({:.1} s)",
+                s.generation,
+                s.evaluations,
+                s.best,
+                s.mean,
+                s.elapsed.as_secs_f64()
             );
         }
         ControlFlow::Continue(())
     };
-    let result = Ga::new(params).run(&graph, &fitness, &budget, args.seed, &mut observer)?;
+    let budget = Budget::generations(args.generations);
+    let result = Ga::new(GaParams::paper_spaceship()).run(
+        &graph,
+        &fitness,
+        &budget,
+        args.seed,
+        &mut observer,
+    )?;
+    let counts = fitness.counts(&result.best, &mut fitness.scratch());
     println!(
-        "done: best fitness {:.4} ({} genes) after {} generations, {} evaluations, {:.2} s ({:?})",
+        "done: best fitness {:.4} ({} genes; {} of {} target cells covered, {} outside) after {} generations, {} evaluations, {:.1} s",
         result.best_fitness,
         result.best.len(),
+        counts.good,
+        fitness.scene().target_cells(),
+        counts.bad + counts.outside,
         result.generations,
         result.evaluations,
-        result.elapsed.as_secs_f64(),
-        result.stop
+        result.elapsed.as_secs_f64()
     );
+    fs::create_dir_all(&args.out)
+        .map_err(|e| format!("cannot create output directory {}: {e}", args.out.display()))?;
+    write_model(&args.out.join("best.obj"), &Spaceship, &result.best)?;
+    write_target(&args.out.join("target.obj"), &targets)?;
     let summary = Summary {
         generator: graph.name(),
+        target: "built-in ship-shaped volume (shapegen::demo::spaceship_target)",
         method: "ga",
         seed: args.seed,
-        optimum: 1.0,
+        optimum: 2.0,
         best_fitness: result.best_fitness,
         best_genes: result.best.len(),
+        target_cells: fitness.scene().target_cells(),
+        covered_target_cells: counts.good,
+        covered_other_cells: counts.bad + counts.outside,
         evaluations: result.evaluations,
         generations: result.generations,
         seconds: result.elapsed.as_secs_f64(),
         stop: result.stop,
     };
-    write_results(
-        &args.out,
-        &curve,
-        &serde_json::to_string_pretty(&result.best.to_data(&graph))?,
-        &serde_json::to_string_pretty(&summary)?,
-    )?;
+    let files = [
+        ("curve.csv", curve),
+        (
+            "best.json",
+            serde_json::to_string_pretty(&result.best.to_data(&graph))?,
+        ),
+        ("summary.json", serde_json::to_string_pretty(&summary)?),
+    ];
+    for (name, text) in files {
+        write_atomically(&args.out.join(name), &text)?;
+    }
     println!(
-        "wrote {}/best.json, curve.csv, summary.json",
+        "wrote {0}/best.obj, {0}/target.obj, {0}/best.json, {0}/curve.csv, {0}/summary.json",
         args.out.display()
     );
     Ok(())
 }
 
-/// Writes each file atomically (temporary file, then rename), so an
-/// interrupted run never leaves a truncated result behind.
-fn write_results(dir: &Path, curve: &str, best: &str, summary: &str) -> Result<(), Box<dyn Error>> {
-    fs::create_dir_all(dir)
-        .map_err(|e| format!("cannot create output directory {}: {e}", dir.display()))?;
-    for (name, text) in [
-        ("curve.csv", curve),
-        ("best.json", best),
-        ("summary.json", summary),
-    ] {
-        let path = dir.join(name);
-        let tmp = dir.join(format!(".{name}.tmp"));
-        let write = || -> std::io::Result<()> {
-            let mut f = fs::File::create(&tmp)?;
-            f.write_all(text.as_bytes())?;
-            f.sync_all()?;
-            fs::rename(&tmp, &path)
-        };
-        write().map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+/// The target boxes as one OBJ, to open beside `best.obj`.
+fn write_target(
+    path: &Path,
+    targets: &[shapegen::score::volume::VolumeTarget],
+) -> Result<(), Box<dyn Error>> {
+    let mut text = Vec::new();
+    let mut base = 1;
+    for t in targets {
+        writeln!(text, "o {}", t.name.replace(' ', "_"))?;
+        for p in &t.mesh.positions {
+            writeln!(text, "v {} {} {}", p.x, p.y, p.z)?;
+        }
+        for f in &t.mesh.triangles {
+            writeln!(text, "f {} {} {}", f[0] + base, f[1] + base, f[2] + base)?;
+        }
+        base += t.mesh.positions.len() as u32;
     }
-    Ok(())
+    write_atomically(path, std::str::from_utf8(&text)?)
+}
+
+/// Writes a file atomically (temporary file, then rename), so an interrupted
+/// run never leaves a truncated result behind.
+fn write_atomically(path: &Path, text: &str) -> Result<(), Box<dyn Error>> {
+    let tmp = path.with_extension("tmp");
+    let write = || -> std::io::Result<()> {
+        let mut f = fs::File::create(&tmp)?;
+        f.write_all(text.as_bytes())?;
+        f.sync_all()?;
+        fs::rename(&tmp, path)
+    };
+    write().map_err(|e| format!("cannot write {}: {e}", path.display()).into())
 }
