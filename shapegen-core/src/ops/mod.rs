@@ -17,6 +17,7 @@ mod sample;
 pub use alter::{alter, alter_at};
 pub use crossover::{CrossoverConfig, EdgeMatch, crossover, crossover_at, crossover_into};
 pub use cut::{Cut, cut, cut_at};
+pub(crate) use grow::grow_unchecked;
 pub use grow::{Grower, Grown, grow, grow_at};
 pub use init::{InitLength, random_individual, random_individual_with};
 

@@ -16,6 +16,7 @@ mod progress;
 mod random;
 mod scratch;
 mod selection;
+mod smc;
 
 use std::time::Duration;
 
@@ -26,6 +27,7 @@ pub use observer::{GenerationStats, NoObserver, Observer};
 pub use random::RandomSearch;
 pub use scratch::{Pooled, ScratchPool, evaluate_all};
 pub use selection::{Roulette, RouletteShift, rank_order, tournament};
+pub use smc::{MAX_STEP_GENES, Resampling, SlotOrder, Smc, SmcParams, SmcWeights};
 
 use crate::genome::Chromosome;
 use crate::graph::Graph;
