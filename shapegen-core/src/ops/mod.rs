@@ -16,6 +16,7 @@ mod sample;
 
 pub use alter::{alter, alter_at};
 pub use crossover::{CrossoverConfig, EdgeMatch, crossover, crossover_at, crossover_into};
+pub(crate) use cut::cut_unchecked;
 pub use cut::{Cut, cut, cut_at};
 pub(crate) use grow::grow_unchecked;
 pub use grow::{Grower, Grown, grow, grow_at};

@@ -1,0 +1,448 @@
+//! Reversible-jump MCMC (Talton et al. 2011) in the paper's framework (§7).
+//!
+//! Each chain holds one chromosome. Per generation every chain proposes a
+//! *jump* (probability `jump_probability`) or a *diffusion*:
+//!
+//! - diffusion: a gene with parameters, chosen by level-biased selection,
+//!   gets all its parameters redrawn from the prior; accepted with
+//!   `min{1, exp(β(ℓ' − ℓ))}`;
+//! - jump: a non-root gene whose node has slots, chosen by level-biased
+//!   selection, keeps its own parameters while everything below it is
+//!   regrown from the graph (each open slot expressed with its `p`, depth
+//!   first, up to `max_depth`). The new genes copy the parameters of the
+//!   removed ones of the same node, in pre-order (first removed `A` to first
+//!   new `A`, ...), and draw the rest from the prior.
+//!
+//! **Detailed balance.** The copy pairing is symmetric (the reverse jump
+//! pairs the same genes), so copies are an involution with unit Jacobian;
+//! the regrown structure is proposed with its prior probability and fresh
+//! parameters with their prior density. Prior and proposal therefore cancel,
+//! leaving `α = min{1, exp(β(ℓ' − ℓ)) · q_{x'}(v) / q_x(v)}` with `q` the
+//! level-biased selection probability `1/|levels| · 1/n(depth(v))`. This
+//! holds exactly when regrowth is limited by `max_depth` only (a length cap
+//! `L_max` truncates proposals, as the reference code did), at `β = 1`
+//! without annealing: the chain then samples `prior(x) · L(x)`.
+//!
+//! Chains run at inverse temperatures from a ladder (parallel tempering);
+//! once per generation one random adjacent pair proposes to swap states.
+
+use rand::{Rng, RngExt};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use super::fitness::is_valid_score;
+use super::progress::{Candidate, Progress, evaluate};
+use super::scratch::ScratchPool;
+use super::{Budget, Fitness, Observer, OptimizeError, Optimizer, RunResult, purpose};
+use crate::genome::{Chromosome, word};
+use crate::graph::Graph;
+use crate::ops::{InitLength, cut_unchecked, grow_unchecked, random_individual};
+use crate::rng::stream;
+
+/// Inverse temperatures of the chains.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Ladder {
+    /// Every chain at `β = 1` (plain MCMC, no swaps).
+    Flat,
+    /// Geometric temperatures `T_i = T_max^{i/(P−1)}`; the paper's rule (70 %
+    /// acceptance in the hottest chain for 1 % in the coldest) gives
+    /// `T_max = ln 0.01 / ln 0.7 ≈ 12.91` ([`Ladder::paper`]).
+    Geometric {
+        /// The hottest temperature.
+        t_max: f64,
+    },
+    /// The reference code's `β_i = (i + 1)^−1.03`.
+    Reference,
+}
+
+impl Ladder {
+    /// The paper's geometric ladder.
+    #[must_use]
+    pub fn paper() -> Self {
+        Self::Geometric {
+            t_max: 0.01f64.ln() / 0.7f64.ln(),
+        }
+    }
+
+    fn betas(&self, chains: usize) -> Vec<f64> {
+        (0..chains)
+            .map(|i| match *self {
+                Self::Flat => 1.0,
+                Self::Geometric { t_max } if chains > 1 => {
+                    1.0 / t_max.powf(i as f64 / (chains - 1) as f64)
+                }
+                Self::Geometric { .. } => 1.0,
+                Self::Reference => (i as f64 + 1.0).powf(-1.03),
+            })
+            .collect()
+    }
+}
+
+/// How fitness becomes a log-likelihood `ℓ`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum LogLikelihood {
+    /// `ℓ = f / τ`.
+    FitnessIsLogLik {
+        /// Temperature `τ`.
+        tau: f64,
+    },
+    /// `ℓ = ln f`; when either compared fitness is `<= 0`, both are shifted by
+    /// `−min + 0.01` first (the reference code; `ℓ` then depends on the pair).
+    LogShiftedFitness,
+}
+
+impl LogLikelihood {
+    /// `ℓ(to) − ℓ(from)`.
+    fn difference(&self, from: f64, to: f64) -> f64 {
+        match *self {
+            Self::FitnessIsLogLik { tau } => (to - from) / tau,
+            Self::LogShiftedFitness => {
+                let shift = if from <= 0.0 || to <= 0.0 {
+                    -from.min(to) + 0.01
+                } else {
+                    0.0
+                };
+                (to + shift).ln() - (from + shift).ln()
+            }
+        }
+    }
+}
+
+/// Parameters of [`Rjmcmc`].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RjmcmcParams {
+    /// Number of chains.
+    pub chains: usize,
+    /// Initial states (the GA's random individuals).
+    pub init: InitLength,
+    /// Probability that a proposal is a jump.
+    pub jump_probability: f64,
+    /// Inverse temperatures.
+    pub ladder: Ladder,
+    /// Multiply every `β` by this after each step (the paper: 1.1); `None` = off.
+    pub annealing: Option<f64>,
+    /// Fitness to log-likelihood.
+    pub log_likelihood: LogLikelihood,
+}
+
+impl RjmcmcParams {
+    /// The paper presets' conventions: jump probability 0.5, the geometric
+    /// ladder, annealing ×1.1 per step, log of shifted fitness.
+    #[must_use]
+    pub fn paper(chains: usize, init: InitLength) -> Self {
+        Self {
+            chains,
+            init,
+            jump_probability: 0.5,
+            ladder: Ladder::paper(),
+            annealing: Some(1.1),
+            log_likelihood: LogLikelihood::LogShiftedFitness,
+        }
+    }
+
+    fn problems(&self) -> Vec<String> {
+        let mut p = Vec::new();
+        if self.chains == 0 {
+            p.push("chains must be at least 1".to_string());
+        }
+        if !(0.0..=1.0).contains(&self.jump_probability) {
+            p.push(format!(
+                "jump_probability must be in [0, 1], got {}",
+                self.jump_probability
+            ));
+        }
+        if let Some(a) = self.annealing
+            && !(a > 0.0 && a.is_finite())
+        {
+            p.push(format!("annealing factor must be finite and > 0, got {a}"));
+        }
+        if let LogLikelihood::FitnessIsLogLik { tau } = self.log_likelihood
+            && !(tau > 0.0 && tau.is_finite())
+        {
+            p.push(format!(
+                "log-likelihood temperature must be finite and > 0, got {tau}"
+            ));
+        }
+        p
+    }
+}
+
+/// RJMCMC with parallel tempering.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rjmcmc {
+    /// The parameters.
+    pub params: RjmcmcParams,
+}
+
+/// Level-biased selection among the genes accepted by `eligible`:
+/// a depth uniformly among the depths holding one, then a gene uniformly.
+/// Returns the chosen gene and its selection probability.
+fn select<R: Rng + ?Sized>(
+    graph: &Graph,
+    c: &Chromosome,
+    eligible: impl Fn(u16) -> bool,
+    rng: &mut R,
+) -> Option<(u32, f64)> {
+    let by_level = levels(graph, c, &eligible);
+    if by_level.is_empty() {
+        return None;
+    }
+    let level = &by_level[rng.random_range(0..by_level.len())];
+    let v = level[rng.random_range(0..level.len())];
+    Some((v, 1.0 / (by_level.len() as f64 * level.len() as f64)))
+}
+
+/// Eligible gene positions grouped by depth (non-empty levels only).
+fn levels(graph: &Graph, c: &Chromosome, eligible: &impl Fn(u16) -> bool) -> Vec<Vec<u32>> {
+    let mut depth_at = vec![0u32; c.words().len()];
+    let mut out: Vec<Vec<u32>> = Vec::new();
+    for g in c.genes(graph) {
+        let d = g.parent().map_or(0, |p| depth_at[p as usize] + 1);
+        depth_at[g.pos() as usize] = d;
+        if eligible(g.node()) {
+            let d = d as usize;
+            if out.len() <= d {
+                out.resize(d + 1, Vec::new());
+            }
+            out[d].push(g.pos());
+        }
+    }
+    out.retain(|l| !l.is_empty());
+    out
+}
+
+/// Jump at `v`: remove everything below it and regrow from the graph,
+/// copying parameters of removed genes to new genes of the same node in pre-order.
+fn jump<R: Rng + ?Sized>(graph: &Graph, c: &mut Chromosome, v: u32, rng: &mut R) {
+    // Parameters of the removed genes, per node, in pre-order.
+    let mut removed: Vec<std::collections::VecDeque<Vec<u32>>> =
+        vec![Default::default(); graph.node_count()];
+    let children: Vec<u32> = c.gene(graph, v).children().map(|(_, p)| p).collect();
+    for &child in &children {
+        for g in c.subtree(graph, child) {
+            removed[g.node() as usize].push_back(g.params().to_vec());
+        }
+    }
+    // Cut the child subtrees (v precedes them and never moves).
+    loop {
+        let Some((_, child)) = c.gene(graph, v).children().next() else {
+            break;
+        };
+        cut_unchecked(graph, c, child);
+    }
+    // Regrow depth first from v's slots.
+    let depth_v = c.depth(v);
+    let limits = *graph.limits();
+    let mut open: Vec<(u32, u32, u32)> = Vec::new();
+    let push_slots = |open: &mut Vec<(u32, u32, u32)>, c: &Chromosome, pos: u32, depth: u32| {
+        if limits.allows_depth(depth + 1) {
+            let node = word::node(c.words[pos as usize]);
+            for j in (0..graph.layout(node).slots).rev() {
+                open.push((pos, j, depth));
+            }
+        }
+    };
+    push_slots(&mut open, c, v, depth_v);
+    let mut added = 0;
+    while let Some((pos, slot, depth)) = open.pop() {
+        let node = word::node(c.words[pos as usize]);
+        let edge = *graph.edge(node, slot);
+        let room = limits.max_len.is_none_or(|m| c.len() as u32 + 1 < m)
+            && added < super::smc::MAX_STEP_GENES;
+        if room && rng.random_bool(edge.p) {
+            let child = grow_unchecked(graph, c, pos, slot, rng).child;
+            added += 1;
+            if let Some(params) = removed[edge.to as usize].pop_front() {
+                let layout = graph.layout(edge.to);
+                let at = child as usize + word::SLOTS + layout.slots as usize;
+                c.words[at..at + params.len()].copy_from_slice(&params);
+            }
+            push_slots(&mut open, c, child, depth + 1);
+        }
+    }
+}
+
+/// A chain's proposal and what its acceptance needs.
+struct Proposal {
+    state: Chromosome,
+    /// `q_{x'}(v) / q_x(v)` (1 for diffusion).
+    selection_ratio: f64,
+    changed: bool,
+}
+
+impl Rjmcmc {
+    /// An RJMCMC optimizer.
+    #[must_use]
+    pub const fn new(params: RjmcmcParams) -> Self {
+        Self { params }
+    }
+
+    fn propose<R: Rng + ?Sized>(&self, graph: &Graph, x: &Chromosome, rng: &mut R) -> Proposal {
+        let mut y = x.clone();
+        let unchanged = |y| Proposal {
+            state: y,
+            selection_ratio: 1.0,
+            changed: false,
+        };
+        if rng.random_bool(self.params.jump_probability) {
+            let has_slots = |n: u16| graph.layout(n).slots > 0;
+            let eligible = |n: u16| has_slots(n);
+            // Non-root genes only: the root (position 0) is never a jump point.
+            let Some((v, q)) = select_non_root(graph, x, eligible, rng) else {
+                return unchanged(y);
+            };
+            jump(graph, &mut y, v, rng);
+            let q_back = selection_probability_non_root(graph, &y, v, eligible);
+            Proposal {
+                state: y,
+                selection_ratio: q_back / q,
+                changed: true,
+            }
+        } else {
+            let Some((v, _)) = select(graph, x, |n| graph.layout(n).param_words > 0, rng) else {
+                return unchanged(y);
+            };
+            y.redraw_params(graph, v, rng);
+            Proposal {
+                state: y,
+                selection_ratio: 1.0,
+                changed: true,
+            }
+        }
+    }
+}
+
+fn select_non_root<R: Rng + ?Sized>(
+    graph: &Graph,
+    c: &Chromosome,
+    eligible: impl Fn(u16) -> bool,
+    rng: &mut R,
+) -> Option<(u32, f64)> {
+    let mut by_level = levels(graph, c, &eligible);
+    strip_root(&mut by_level);
+    if by_level.is_empty() {
+        return None;
+    }
+    let level = &by_level[rng.random_range(0..by_level.len())];
+    let v = level[rng.random_range(0..level.len())];
+    Some((v, 1.0 / (by_level.len() as f64 * level.len() as f64)))
+}
+
+fn selection_probability_non_root(
+    graph: &Graph,
+    c: &Chromosome,
+    v: u32,
+    eligible: impl Fn(u16) -> bool,
+) -> f64 {
+    let mut by_level = levels(graph, c, &eligible);
+    strip_root(&mut by_level);
+    by_level
+        .iter()
+        .find(|l| l.contains(&v))
+        .map_or(0.0, |l| 1.0 / (by_level.len() as f64 * l.len() as f64))
+}
+
+fn strip_root(levels: &mut Vec<Vec<u32>>) {
+    for l in levels.iter_mut() {
+        l.retain(|&p| p != 0);
+    }
+    levels.retain(|l| !l.is_empty());
+}
+
+impl Optimizer for Rjmcmc {
+    fn name(&self) -> &'static str {
+        "rjmcmc"
+    }
+
+    fn run<F: Fitness>(
+        &self,
+        graph: &Graph,
+        fitness: &F,
+        budget: &Budget,
+        seed: u64,
+        observer: &mut dyn Observer,
+    ) -> Result<RunResult, OptimizeError> {
+        let problems = self.params.problems();
+        if !problems.is_empty() {
+            return Err(OptimizeError::Params(problems.join("; ")));
+        }
+        let mut progress = Progress::new(*budget, observer)?;
+        let pool = ScratchPool::new();
+        let init: Vec<Candidate> = (0..self.params.chains as u64)
+            .into_par_iter()
+            .map(|i| {
+                Ok(Candidate::new(random_individual(
+                    graph,
+                    &self.params.init,
+                    &mut stream(seed, &[0, i, purpose::INIT]),
+                )?))
+            })
+            .collect::<Result<_, OptimizeError>>()?;
+        let (mut chains, fresh) = evaluate(fitness, init, &pool);
+        progress.evaluations += fresh;
+        let mut betas = self.params.ladder.betas(self.params.chains);
+        let ll = self.params.log_likelihood;
+        loop {
+            if let Some(stop) = progress.generation_done(&chains) {
+                return Ok(progress.finish(stop, chains));
+            }
+            progress.generation += 1;
+            let g = progress.generation;
+            let proposals: Vec<(Proposal, f64)> = chains
+                .par_iter()
+                .enumerate()
+                .map(|(i, x)| {
+                    let mut rng = stream(seed, &[g, i as u64, purpose::BREED]);
+                    let p = self.propose(graph, &x.chromosome, &mut rng);
+                    (p, rng.random::<f64>())
+                })
+                .collect();
+            let candidates = proposals
+                .iter()
+                .zip(&chains)
+                .map(|((p, _), x)| Candidate {
+                    chromosome: p.state.clone(),
+                    fitness: (!p.changed).then_some(x.fitness),
+                })
+                .collect();
+            let (evaluated, fresh) = evaluate(fitness, candidates, &pool);
+            progress.evaluations += fresh;
+            for (((x, y), (p, u)), beta) in
+                chains.iter_mut().zip(evaluated).zip(&proposals).zip(&betas)
+            {
+                if !p.changed {
+                    continue;
+                }
+                let accept = if !is_valid_score(y.fitness) {
+                    false
+                } else if !is_valid_score(x.fitness) {
+                    true
+                } else {
+                    let log_alpha =
+                        beta * ll.difference(x.fitness, y.fitness) + p.selection_ratio.ln();
+                    u.ln() < log_alpha
+                };
+                if accept {
+                    *x = y;
+                }
+            }
+            // Parallel tempering: one adjacent pair proposes to swap states.
+            if chains.len() > 1 && !matches!(self.params.ladder, Ladder::Flat) {
+                let mut rng = stream(seed, &[g, u64::MAX, purpose::BREED]);
+                let i = rng.random_range(0..chains.len() - 1);
+                let (a, b) = (&chains[i], &chains[i + 1]);
+                if is_valid_score(a.fitness) && is_valid_score(b.fitness) {
+                    let log_alpha = (betas[i] - betas[i + 1]) * ll.difference(a.fitness, b.fitness);
+                    if rng.random::<f64>().ln() < log_alpha {
+                        chains.swap(i, i + 1);
+                    }
+                }
+            }
+            if let Some(factor) = self.params.annealing {
+                betas.iter_mut().for_each(|b| *b *= factor);
+            }
+        }
+    }
+}
