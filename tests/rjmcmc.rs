@@ -4,7 +4,7 @@
 mod common;
 
 use proptest::prelude::*;
-use shapegen::optimize::{Ladder, LogLikelihood, Rjmcmc, RjmcmcParams};
+use shapegen::optimize::{DelayedRejection, Ladder, LogLikelihood, Rjmcmc, RjmcmcParams};
 use shapegen::prelude::*;
 
 /// Root → A (p = 1), A → A (p = 0.5), max depth 5: lengths 2..=6.
@@ -26,7 +26,7 @@ fn chain() -> Graph {
         .unwrap()
 }
 
-fn sampler(chains: usize) -> Rjmcmc {
+fn sampler(chains: usize, delayed_rejection: DelayedRejection) -> Rjmcmc {
     Rjmcmc::new(RjmcmcParams {
         chains,
         init: InitLength::Between { lo: 2, hi: 6 },
@@ -34,11 +34,21 @@ fn sampler(chains: usize) -> Rjmcmc {
         ladder: Ladder::Flat,
         annealing: None,
         log_likelihood: LogLikelihood::FitnessIsLogLik { tau: 1.0 },
+        delayed_rejection,
     })
 }
 
 #[test]
 fn samples_the_posterior_at_beta_one() {
+    check_posterior(DelayedRejection::Off);
+}
+
+#[test]
+fn exact_delayed_rejection_also_samples_the_posterior() {
+    check_posterior(DelayedRejection::Exact);
+}
+
+fn check_posterior(dr: DelayedRejection) {
     let graph = chain();
     // log L = −|L − 4| (parameters do not matter), so the posterior of the length is
     // prior(L) · e^{−|L − 4|} with prior(2 + k) = 0.5^{k+1} for k < 4 and prior(6) = 0.5^4.
@@ -52,7 +62,7 @@ fn samples_the_posterior_at_beta_one() {
     let f = FnFitness(|c: &Chromosome| -(c.len() as f64 - 4.0).abs());
     // Independent chains run long: their final states are independent posterior samples.
     let n = 4000;
-    let r = sampler(n)
+    let r = sampler(n, dr)
         .run(&graph, &f, &Budget::generations(150), 11, &mut NoObserver)
         .unwrap();
     let mut counts = [0u64; 5];
@@ -107,9 +117,10 @@ proptest! {
 
     /// Every chain state on random graphs is a valid chromosome.
     #[test]
-    fn chains_stay_valid(graph in common::graph(), seed in any::<u64>()) {
+    fn chains_stay_valid(graph in common::graph(), seed in any::<u64>(), dr in 0usize..3) {
         let f = FnFitness(|c: &Chromosome| -(c.len() as f64 - 12.0).abs());
-        let params = RjmcmcParams { chains: 12, init: InitLength::Between { lo: 1, hi: 30 }, ..RjmcmcParams::paper(12, InitLength::Around { l0: 10 }) };
+        let delayed_rejection = [DelayedRejection::Off, DelayedRejection::Exact, DelayedRejection::ApproxAlter][dr];
+        let params = RjmcmcParams { chains: 12, init: InitLength::Between { lo: 1, hi: 30 }, delayed_rejection, ..RjmcmcParams::paper(12, InitLength::Around { l0: 10 }) };
         let r = Rjmcmc::new(params).run(&graph, &f, &Budget::generations(40), seed, &mut NoObserver).unwrap();
         for i in &r.population {
             i.chromosome.validate(&graph).map_err(|e| TestCaseError::fail(e.to_string()))?;

@@ -26,7 +26,7 @@ pub use fitness::{Fitness, FnFitness, is_valid_score};
 pub use ga::{Ga, GaParams};
 pub use observer::{GenerationStats, NoObserver, Observer};
 pub use random::RandomSearch;
-pub use rjmcmc::{Ladder, LogLikelihood, Rjmcmc, RjmcmcParams};
+pub use rjmcmc::{DelayedRejection, Ladder, LogLikelihood, Rjmcmc, RjmcmcParams};
 pub use scratch::{Pooled, ScratchPool, evaluate_all};
 pub use selection::{Roulette, RouletteShift, rank_order, tournament};
 pub use smc::{MAX_STEP_GENES, Resampling, SlotOrder, Smc, SmcParams, SmcWeights};

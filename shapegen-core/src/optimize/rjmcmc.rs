@@ -23,8 +23,10 @@
 //! `L_max` truncates proposals, as the reference code did), at `β = 1`
 //! without annealing: the chain then samples `prior(x) · L(x)`.
 //!
-//! Chains run at inverse temperatures from a ladder (parallel tempering);
-//! once per generation one random adjacent pair proposes to swap states.
+//! Proposals outside the graph's length limits are rejected outright (the
+//! target is zero there). Chains run at inverse temperatures from a ladder
+//! (parallel tempering); once per generation one random adjacent pair
+//! proposes to swap states.
 
 use rand::{Rng, RngExt};
 use rayon::prelude::*;
@@ -125,6 +127,26 @@ pub struct RjmcmcParams {
     pub annealing: Option<f64>,
     /// Fitness to log-likelihood.
     pub log_likelihood: LogLikelihood,
+    /// A second proposal after a rejected jump.
+    pub delayed_rejection: DelayedRejection,
+}
+
+/// Delayed rejection: what a chain tries after its jump is rejected.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DelayedRejection {
+    /// No second stage.
+    #[default]
+    Off,
+    /// Regrow again at the same gene, accepted with the Tierney–Mira rule
+    /// `α2 = min{1, e^{β(ℓ_y2 − ℓ_x)} · q_{y2}(v)/q_x(v) · (1 − α1(y2, y1)) / (1 − α1(x, y1))}`.
+    /// Keeps detailed balance; jumps then draw all new parameters afresh
+    /// (with copies the reverse first stage would be impossible).
+    Exact,
+    /// Redraw the parameters of one gene of the rejected jump's regrown part
+    /// and accept with the plain jump ratio against the current state: the
+    /// paper's "additional alter mutations". Approximate (no detailed balance).
+    ApproxAlter,
 }
 
 impl RjmcmcParams {
@@ -139,6 +161,7 @@ impl RjmcmcParams {
             ladder: Ladder::paper(),
             annealing: Some(1.1),
             log_likelihood: LogLikelihood::LogShiftedFitness,
+            delayed_rejection: DelayedRejection::Off,
         }
     }
 
@@ -213,9 +236,10 @@ fn levels(graph: &Graph, c: &Chromosome, eligible: &impl Fn(u16) -> bool) -> Vec
     out
 }
 
-/// Jump at `v`: remove everything below it and regrow from the graph,
-/// copying parameters of removed genes to new genes of the same node in pre-order.
-fn jump<R: Rng + ?Sized>(graph: &Graph, c: &mut Chromosome, v: u32, rng: &mut R) {
+/// Jump at `v`: remove everything below it and regrow from the graph; with
+/// `copy`, new genes take the parameters of removed genes of the same node in
+/// pre-order. The regrown genes are the last ones of the chromosome.
+fn jump<R: Rng + ?Sized>(graph: &Graph, c: &mut Chromosome, v: u32, copy: bool, rng: &mut R) {
     // Parameters of the removed genes, per node, in pre-order.
     let mut removed: Vec<std::collections::VecDeque<Vec<u32>>> =
         vec![Default::default(); graph.node_count()];
@@ -254,7 +278,7 @@ fn jump<R: Rng + ?Sized>(graph: &Graph, c: &mut Chromosome, v: u32, rng: &mut R)
         if room && rng.random_bool(edge.p) {
             let child = grow_unchecked(graph, c, pos, slot, rng).child;
             added += 1;
-            if let Some(params) = removed[edge.to as usize].pop_front() {
+            if let Some(params) = removed[edge.to as usize].pop_front().filter(|_| copy) {
                 let layout = graph.layout(edge.to);
                 let at = child as usize + word::SLOTS + layout.slots as usize;
                 c.words[at..at + params.len()].copy_from_slice(&params);
@@ -264,12 +288,23 @@ fn jump<R: Rng + ?Sized>(graph: &Graph, c: &mut Chromosome, v: u32, rng: &mut R)
     }
 }
 
+/// What the delayed-rejection stage needs from the first.
+#[derive(Clone, Copy)]
+struct SecondStage<'a> {
+    proposals: &'a [(Proposal, f64)],
+    rejected: &'a [(usize, f64)],
+    betas: &'a [f64],
+    seed: u64,
+}
+
 /// A chain's proposal and what its acceptance needs.
 struct Proposal {
     state: Chromosome,
     /// `q_{x'}(v) / q_x(v)` (1 for diffusion).
     selection_ratio: f64,
     changed: bool,
+    /// For a jump: the gene `v`, `q_x(v)`, and how many genes `x` keeps before regrowth.
+    jump: Option<(u32, f64, usize)>,
 }
 
 impl Rjmcmc {
@@ -285,20 +320,27 @@ impl Rjmcmc {
             state: y,
             selection_ratio: 1.0,
             changed: false,
+            jump: None,
         };
         if rng.random_bool(self.params.jump_probability) {
-            let has_slots = |n: u16| graph.layout(n).slots > 0;
-            let eligible = |n: u16| has_slots(n);
+            let eligible = |n: u16| graph.layout(n).slots > 0;
             // Non-root genes only: the root (position 0) is never a jump point.
             let Some((v, q)) = select_non_root(graph, x, eligible, rng) else {
                 return unchanged(y);
             };
-            jump(graph, &mut y, v, rng);
+            let copy = self.params.delayed_rejection != DelayedRejection::Exact;
+            jump(graph, &mut y, v, copy, rng);
+            if !graph.limits().allows_len(y.len() as u32) {
+                // Outside the target's support (length limits): rejected outright.
+                return unchanged(x.clone());
+            }
+            let kept = x.len() - x.subtree_len(graph, v) + 1;
             let q_back = selection_probability_non_root(graph, &y, v, eligible);
             Proposal {
                 state: y,
                 selection_ratio: q_back / q,
                 changed: true,
+                jump: Some((v, q, kept)),
             }
         } else {
             let Some((v, _)) = select(graph, x, |n| graph.layout(n).param_words > 0, rng) else {
@@ -309,6 +351,46 @@ impl Rjmcmc {
                 state: y,
                 selection_ratio: 1.0,
                 changed: true,
+                jump: None,
+            }
+        }
+    }
+}
+
+impl Rjmcmc {
+    /// The second-stage proposal after the jump `first` from `x` was rejected.
+    fn second_stage<R: Rng + ?Sized>(
+        &self,
+        graph: &Graph,
+        x: &Chromosome,
+        first: &Proposal,
+        rng: &mut R,
+    ) -> Option<Chromosome> {
+        let (v, _, kept) = first.jump?;
+        match self.params.delayed_rejection {
+            DelayedRejection::Off => None,
+            DelayedRejection::Exact => {
+                let mut y = x.clone();
+                jump(graph, &mut y, v, false, rng);
+                graph.limits().allows_len(y.len() as u32).then_some(y)
+            }
+            DelayedRejection::ApproxAlter => {
+                // Genes of the regrown part are those after the `kept` surviving genes.
+                let regrown = &first.state.positions()[kept.min(first.state.len())..];
+                let with_params: Vec<u32> = regrown
+                    .iter()
+                    .copied()
+                    .filter(|&p| graph.layout(first.state.gene(graph, p).node()).param_words > 0)
+                    .collect();
+                let mut y = first.state.clone();
+                if !with_params.is_empty() {
+                    y.redraw_params(
+                        graph,
+                        with_params[rng.random_range(0..with_params.len())],
+                        rng,
+                    );
+                }
+                Some(y)
             }
         }
     }
@@ -349,6 +431,88 @@ fn strip_root(levels: &mut Vec<Vec<u32>>) {
         l.retain(|&p| p != 0);
     }
     levels.retain(|l| !l.is_empty());
+}
+
+impl Rjmcmc {
+    /// The second stage for every chain whose jump was rejected.
+    fn delayed_rejection<F: Fitness>(
+        &self,
+        graph: &Graph,
+        fitness: &F,
+        pool: &ScratchPool<F::Scratch>,
+        progress: &mut Progress<'_>,
+        chains: &mut [super::Individual],
+        stage: &SecondStage<'_>,
+    ) {
+        let SecondStage {
+            proposals,
+            rejected,
+            betas,
+            seed,
+        } = *stage;
+        let g = progress.generation;
+        let second: Vec<(usize, Chromosome, f64)> = rejected
+            .par_iter()
+            .filter_map(|&(i, _)| {
+                let mut rng = stream(seed, &[g, i as u64, purpose::BREED, 2]);
+                let y2 =
+                    self.second_stage(graph, &chains[i].chromosome, &proposals[i].0, &mut rng)?;
+                Some((i, y2, rng.random::<f64>()))
+            })
+            .collect();
+        let candidates = second
+            .iter()
+            .map(|(_, y, _)| Candidate::new(y.clone()))
+            .collect();
+        let (evaluated, fresh) = evaluate(fitness, candidates, pool);
+        progress.evaluations += fresh;
+        let ll = self.params.log_likelihood;
+        let eligible = |n: u16| graph.layout(n).slots > 0;
+        for ((i, _, u), y2) in second.iter().zip(evaluated) {
+            let (i, beta) = (*i, betas[*i]);
+            if !is_valid_score(y2.fitness) {
+                continue;
+            }
+            let (p1, _) = &proposals[i];
+            let (v, q_x, _) = p1.jump.expect("only rejected jumps reach the second stage");
+            let x = &chains[i];
+            let q_y2 = selection_probability_non_root(graph, &y2.chromosome, v, eligible);
+            let log_alpha = match self.params.delayed_rejection {
+                DelayedRejection::Exact => {
+                    let f_y1 = rejected.iter().find(|r| r.0 == i).map_or(f64::NAN, |r| r.1);
+                    let q_y1 = q_x * p1.selection_ratio;
+                    // α1(a, b) = min{1, e^{β(ℓ_b − ℓ_a)} q_b / q_a}
+                    let alpha1 = |fa: f64, qa: f64, fb: f64, qb: f64| {
+                        (beta * ll.difference(fa, fb) + (qb / qa).ln())
+                            .exp()
+                            .min(1.0)
+                    };
+                    let back = 1.0
+                        - if is_valid_score(f_y1) {
+                            alpha1(y2.fitness, q_y2, f_y1, q_y1)
+                        } else {
+                            0.0
+                        };
+                    let forth = 1.0
+                        - if is_valid_score(f_y1) {
+                            alpha1(x.fitness, q_x, f_y1, q_y1)
+                        } else {
+                            0.0
+                        };
+                    if forth <= 0.0 {
+                        continue;
+                    }
+                    beta * ll.difference(x.fitness, y2.fitness)
+                        + (q_y2 / q_x).ln()
+                        + (back / forth).ln()
+                }
+                _ => beta * ll.difference(x.fitness, y2.fitness) + (q_y2 / q_x).ln(),
+            };
+            if u.ln() < log_alpha {
+                chains[i] = y2;
+            }
+        }
+    }
 }
 
 impl Optimizer for Rjmcmc {
@@ -409,9 +573,15 @@ impl Optimizer for Rjmcmc {
                 .collect();
             let (evaluated, fresh) = evaluate(fitness, candidates, &pool);
             progress.evaluations += fresh;
-            for (((x, y), (p, u)), beta) in
-                chains.iter_mut().zip(evaluated).zip(&proposals).zip(&betas)
-            {
+            // First stage; remember rejected jumps (with y1's fitness) for delayed rejection.
+            let mut rejected: Vec<(usize, f64)> = Vec::new();
+            let stage = chains
+                .iter_mut()
+                .zip(evaluated)
+                .zip(&proposals)
+                .zip(&betas)
+                .enumerate();
+            for (i, (((x, y), (p, u)), beta)) in stage {
                 if !p.changed {
                     continue;
                 }
@@ -426,7 +596,18 @@ impl Optimizer for Rjmcmc {
                 };
                 if accept {
                     *x = y;
+                } else if p.jump.is_some() && is_valid_score(x.fitness) {
+                    rejected.push((i, y.fitness));
                 }
+            }
+            if self.params.delayed_rejection != DelayedRejection::Off && !rejected.is_empty() {
+                let stage = SecondStage {
+                    proposals: &proposals,
+                    rejected: &rejected,
+                    betas: &betas,
+                    seed,
+                };
+                self.delayed_rejection(graph, fitness, &pool, &mut progress, &mut chains, &stage);
             }
             // Parallel tempering: one adjacent pair proposes to swap states.
             if chains.len() > 1 && !matches!(self.params.ladder, Ladder::Flat) {
