@@ -20,7 +20,8 @@
 //!   chromosome the graph could not derive.
 //! - [`optimize`]: the [`optimize::Optimizer`] trait, [`optimize::Fitness`],
 //!   [`optimize::Budget`], [`optimize::Observer`], the genetic algorithm
-//!   [`optimize::Ga`] (paper Algorithm 1) and [`optimize::RandomSearch`].
+//!   [`optimize::Ga`] (paper Algorithm 1), the baselines [`optimize::Smc`]
+//!   (SMC, SOSMC) and [`optimize::Rjmcmc`], and [`optimize::RandomSearch`].
 //! - [`express`]: the [`express::Generator`] trait turning a chromosome into
 //!   shape instances, the paper's [`express::Scope`], sinks, and a run-time
 //!   [`express::Interpreter`].

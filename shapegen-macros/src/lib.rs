@@ -1,8 +1,8 @@
 //! The `generator!` procedural macro of [shapegen](https://crates.io/crates/shapegen).
 //!
-//! This crate is a thin shim: the macro parses its input into the model of
-//! [`ast`] ([`parse`]), checks it ([`check`], every problem reported at once
-//! through [`ctxt`]), and generates code ([`expand`], [`body`]). Use it
+//! This crate is a thin shim: the macro parses its input into its own model
+//! (modules `ast`, `parse`), checks it (`check`, every problem reported at
+//! once through `ctxt`), and generates code (`expand`, `body`). Use it
 //! through `shapegen::generator!`, whose documentation describes the syntax.
 
 #![forbid(unsafe_code)]

@@ -1,6 +1,8 @@
-//! Optimizers over chromosomes: the genetic algorithm ([`Ga`]) and the
-//! baselines, all behind one [`Optimizer`] trait with the same [`Fitness`],
-//! [`Budget`] and [`Observer`].
+//! Optimizers over chromosomes: the genetic algorithm ([`Ga`], paper
+//! Algorithm 1) and the paper's baselines — [`Smc`] (SMC and SOSMC, Ritchie
+//! et al. 2015) and [`Rjmcmc`] (Talton et al. 2011, with parallel tempering)
+//! — plus [`RandomSearch`], all behind one [`Optimizer`] trait with the same
+//! [`Fitness`], [`Budget`] and [`Observer`].
 //!
 //! Runs are deterministic: every random decision comes from a stream derived
 //! from `(seed, generation, index, purpose)` (see [`crate::rng`]), fitness
