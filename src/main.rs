@@ -30,12 +30,39 @@ struct Args {
     /// Generations to run.
     #[arg(long, default_value_t = 400)]
     generations: u64,
+    /// Optimization method: the paper's GA or one of its baselines.
+    #[arg(long, value_enum, default_value_t = Method::Ga)]
+    method: Method,
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
     /// Directory for the results.
     #[arg(long, default_value = "out")]
     out: PathBuf,
+}
+
+/// The optimization methods of the paper (§6–7), with its spaceship settings.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum Method {
+    /// Genetic algorithm (P 150, E 30, 30 % mutation).
+    Ga,
+    /// Sequential Monte Carlo (500 particles).
+    Smc,
+    /// Stochastically-ordered SMC (500 particles).
+    Sosmc,
+    /// Reversible-jump MCMC with parallel tempering and annealing (70 chains).
+    Rjmcmc,
+}
+
+impl Method {
+    fn name(self) -> &'static str {
+        match self {
+            Self::Ga => "ga",
+            Self::Smc => "smc",
+            Self::Sosmc => "sosmc",
+            Self::Rjmcmc => "rjmcmc",
+        }
+    }
 }
 
 /// What `summary.json` holds.
@@ -99,7 +126,8 @@ fn run(args: Args) -> Result<(), Box<dyn Error>> {
     let fitness = VolumeFitness::new(Spaceship, scene, &ShapeMeshes::builtin(&Spaceship)?, score)?
         .with_limits(limits);
     println!(
-        "shapegen: evolving spaceships (paper Fig. 4a) toward a built-in ship-shaped volume of {} cells; optimum 2.0, seed {}",
+        "shapegen: {} on spaceships (paper Fig. 4a) toward a built-in ship-shaped volume of {} cells; optimum 2.0, seed {}",
+        args.method.name(),
         fitness.scene().target_cells(),
         args.seed
     );
@@ -127,13 +155,37 @@ fn run(args: Args) -> Result<(), Box<dyn Error>> {
         ControlFlow::Continue(())
     };
     let budget = Budget::generations(args.generations);
-    let result = Ga::new(GaParams::paper_spaceship()).run(
-        &graph,
-        &fitness,
-        &budget,
-        args.seed,
-        &mut observer,
-    )?;
+    let init = InitLength::Around { l0: 50 };
+    let result = match args.method {
+        Method::Ga => Ga::new(GaParams::paper_spaceship()).run(
+            &graph,
+            &fitness,
+            &budget,
+            args.seed,
+            &mut observer,
+        )?,
+        Method::Smc => Smc::new(SmcParams::paper(500)).run(
+            &graph,
+            &fitness,
+            &budget,
+            args.seed,
+            &mut observer,
+        )?,
+        Method::Sosmc => Smc::new(SmcParams::paper_sosmc(500)).run(
+            &graph,
+            &fitness,
+            &budget,
+            args.seed,
+            &mut observer,
+        )?,
+        Method::Rjmcmc => Rjmcmc::new(RjmcmcParams::paper(70, init)).run(
+            &graph,
+            &fitness,
+            &budget,
+            args.seed,
+            &mut observer,
+        )?,
+    };
     let counts = fitness.counts(&result.best, &mut fitness.scratch());
     println!(
         "done: best fitness {:.4} ({} genes; {} of {} target cells covered, {} outside) after {} generations, {} evaluations, {:.1} s",
@@ -153,7 +205,7 @@ fn run(args: Args) -> Result<(), Box<dyn Error>> {
     let summary = Summary {
         generator: graph.name(),
         target: "built-in ship-shaped volume (shapegen::demo::spaceship_target)",
-        method: "ga",
+        method: args.method.name(),
         seed: args.seed,
         optimum: 2.0,
         best_fitness: result.best_fitness,

@@ -140,6 +140,7 @@ pub mod prelude {
     };
     pub use crate::optimize::{
         Budget, Fitness, FnFitness, Ga, GaParams, GenerationStats, Individual, NoObserver,
-        Observer, OptimizeError, Optimizer, RandomSearch, RunResult, StopReason,
+        Observer, OptimizeError, Optimizer, RandomSearch, Rjmcmc, RjmcmcParams, RunResult, Smc,
+        SmcParams, StopReason,
     };
 }
