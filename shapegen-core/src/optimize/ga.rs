@@ -230,11 +230,7 @@ impl Optimizer for Ga {
         seed: u64,
         observer: &mut dyn Observer,
     ) -> Result<RunResult, OptimizeError> {
-        let problems = self.params.problems();
-        if !problems.is_empty() {
-            return Err(OptimizeError::Params(problems.join("; ")));
-        }
-        let mut progress = Progress::new(*budget, observer)?;
+        let mut progress = Progress::start(self.params.problems(), *budget, observer)?;
         let pool = ScratchPool::new();
         let (mut population, fresh) =
             evaluate(fitness, self.initial_population(graph, seed)?, &pool);

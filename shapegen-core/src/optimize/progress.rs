@@ -70,6 +70,19 @@ pub(crate) struct Progress<'o> {
 }
 
 impl<'o> Progress<'o> {
+    /// Checks an optimizer's parameter `problems` (all reported at once) and
+    /// the budget, then starts the clock.
+    pub fn start(
+        problems: Vec<String>,
+        budget: Budget,
+        observer: &'o mut dyn Observer,
+    ) -> Result<Self, OptimizeError> {
+        if !problems.is_empty() {
+            return Err(OptimizeError::Params(problems.join("; ")));
+        }
+        Self::new(budget, observer)
+    }
+
     /// Starts the clock; refuses a budget without limits.
     pub fn new(budget: Budget, observer: &'o mut dyn Observer) -> Result<Self, OptimizeError> {
         if budget.is_unbounded() {

@@ -32,10 +32,12 @@ impl Optimizer for RandomSearch {
         seed: u64,
         observer: &mut dyn Observer,
     ) -> Result<RunResult, OptimizeError> {
-        if self.batch == 0 {
-            return Err(OptimizeError::Params("batch must be at least 1".into()));
-        }
-        let mut progress = Progress::new(*budget, observer)?;
+        let problems = if self.batch == 0 {
+            vec!["batch must be at least 1".to_string()]
+        } else {
+            Vec::new()
+        };
+        let mut progress = Progress::start(problems, *budget, observer)?;
         let pool = ScratchPool::new();
         loop {
             let g = progress.generation;

@@ -528,11 +528,7 @@ impl Optimizer for Rjmcmc {
         seed: u64,
         observer: &mut dyn Observer,
     ) -> Result<RunResult, OptimizeError> {
-        let problems = self.params.problems();
-        if !problems.is_empty() {
-            return Err(OptimizeError::Params(problems.join("; ")));
-        }
-        let mut progress = Progress::new(*budget, observer)?;
+        let mut progress = Progress::start(self.params.problems(), *budget, observer)?;
         let pool = ScratchPool::new();
         let init: Vec<Candidate> = (0..self.params.chains as u64)
             .into_par_iter()

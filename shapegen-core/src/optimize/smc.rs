@@ -314,11 +314,7 @@ impl Optimizer for Smc {
         seed: u64,
         observer: &mut dyn Observer,
     ) -> Result<RunResult, OptimizeError> {
-        let problems = self.params.problems();
-        if !problems.is_empty() {
-            return Err(OptimizeError::Params(problems.join("; ")));
-        }
-        let mut progress = Progress::new(*budget, observer)?;
+        let mut progress = Progress::start(self.params.problems(), *budget, observer)?;
         let pool = ScratchPool::new();
         let order = self.params.order;
         let mut particles: Vec<Particle> = (0..self.params.particles as u64)
