@@ -13,9 +13,11 @@
 //! baselines ([`optimize`]) search for the best one.
 //!
 //! This crate is the facade: it re-exports [`shapegen_core`] (graphs,
-//! genomes, operators, optimizers, expression) and [`shapegen_score`]
-//! (meshes, OBJ export), and holds the [`generator!`] macro, the paper's
-//! [`scenes`], a built-in [`demo`] problem and the `shapegen` command line.
+//! genomes, operators, the GA and the SMC, SOSMC and RJMCMC baselines,
+//! expression) as its own modules and [`shapegen_score`] (meshes, OBJ,
+//! voxel and silhouette scoring) as [`score`], and holds the [`generator!`]
+//! macro, the paper's [`scenes`], built-in [`demo`] problems and the
+//! `shapegen` command line.
 //!
 //! ## Declaring a generator
 //!
