@@ -23,7 +23,7 @@ use shapegen::scenes::{Spaceship, TreeV2};
 use shapegen::score::camera::Camera;
 use shapegen::score::image::ImageTarget;
 use shapegen::score::obj::ShapeMeshes;
-use shapegen::score::score::{ImageFitness, ImageScore, VolumeFitness, VolumeScore};
+use shapegen::score::score::{ImageFitness, ImageScore, ImageTargets, VolumeFitness, VolumeScore};
 use shapegen::score::volume::{VolumeScene, VolumeTarget};
 use shapegen::score::{Grid, Mesh};
 
@@ -115,9 +115,14 @@ fn tree_sketch_fitness() -> Option<ImageFitness<TreeV2>> {
         min_len: 4,
         max_len: Some(400),
     };
-    ImageFitness::new(TreeV2, vec![target], &shapes, score)
-        .ok()
-        .map(|f| f.with_limits(limits))
+    ImageFitness::new(
+        TreeV2,
+        ImageTargets::new(vec![target]).ok()?,
+        &shapes,
+        score,
+    )
+    .ok()
+    .map(|f| f.with_limits(limits))
 }
 
 fn bench_score(c: &mut Criterion) {

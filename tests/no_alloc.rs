@@ -16,7 +16,7 @@ use shapegen::scenes::{Spaceship, TreeV2};
 use shapegen::score::camera::Camera;
 use shapegen::score::image::ImageTarget;
 use shapegen::score::obj::ShapeMeshes;
-use shapegen::score::score::{ImageFitness, ImageScore, VolumeFitness, VolumeScore};
+use shapegen::score::score::{ImageFitness, ImageScore, ImageTargets, VolumeFitness, VolumeScore};
 use shapegen::score::volume::{VolumeScene, VolumeTarget};
 use shapegen::score::{Grid, Mesh};
 
@@ -168,7 +168,7 @@ fn image_evaluation_allocates_nothing_after_warm_up() {
     };
     let fitness = ImageFitness::new(
         TreeV2,
-        vec![target],
+        ImageTargets::new(vec![target]).unwrap(),
         &ShapeMeshes::builtin(&TreeV2).unwrap(),
         score,
     )

@@ -4,7 +4,6 @@
 use std::path::Path;
 
 use glam::Affine3A;
-use shapegen_core::express::{ModelSink, ShapeId};
 
 use crate::camera::Camera;
 use crate::error::ScoreError;
@@ -187,22 +186,5 @@ impl ImageScratch {
     #[must_use]
     pub fn covered(&self, i: usize) -> &[bool] {
         &self.covered[i]
-    }
-}
-
-/// A [`ModelSink`] rasterizing each emitted instance into an [`ImageScratch`].
-pub struct ImageSink<'a> {
-    /// The targets.
-    pub targets: &'a [ImageTarget],
-    /// One raster shape per shape id.
-    pub shapes: &'a [RasterShape],
-    /// The counts so far.
-    pub scratch: &'a mut ImageScratch,
-}
-
-impl ModelSink for ImageSink<'_> {
-    fn emit(&mut self, shape: ShapeId, transform: &Affine3A) {
-        self.scratch
-            .add(self.targets, &self.shapes[shape as usize], transform);
     }
 }

@@ -1,16 +1,18 @@
 //! The paper's scores, as fitness functions.
 
-use shapegen_core::express::{Generator, Pending};
+use glam::Affine3A;
+use shapegen_core::express::{Generator, ModelSink, Pending, ShapeId};
 use shapegen_core::genome::Chromosome;
 use shapegen_core::graph::Limits;
 use shapegen_core::optimize::Fitness;
 
 use crate::error::ScoreError;
-use crate::image::{ImageCounts, ImageScratch, ImageSink, ImageTarget};
+use crate::image::{ImageCounts, ImageScratch, ImageTarget};
+use crate::mesh::Mesh;
 use crate::obj::ShapeMeshes;
 use crate::raster::RasterShape;
 use crate::solid::Solid;
-use crate::volume::{VolumeCounts, VolumeScene, VolumeScratch, VolumeSink};
+use crate::volume::{VolumeCounts, VolumeScene, VolumeScratch};
 
 /// Quintic smootherstep: `t³(6t² − 15t + 10)` with `t = clamp((x − a)/(b − a), 0, 1)`; 0 when `b <= a`.
 #[must_use]
@@ -108,91 +110,6 @@ impl VolumeScore {
     }
 }
 
-/// Scores models of a generator against a [`VolumeScene`].
-#[derive(Clone, Debug)]
-pub struct VolumeFitness<G> {
-    generator: G,
-    scene: VolumeScene,
-    solids: Vec<Solid>,
-    score: VolumeScore,
-    limits: Limits,
-}
-
-impl<G: Generator> VolumeFitness<G> {
-    /// A fitness for `generator`'s models on `scene`, with one mesh per shape.
-    pub fn new(
-        generator: G,
-        scene: VolumeScene,
-        shapes: &ShapeMeshes,
-        score: VolumeScore,
-    ) -> Result<Self, ScoreError> {
-        let solids = (0..generator.shapes().len())
-            .map(|i| Solid::new(shapes.name(i as u16), shapes.mesh(i as u16)))
-            .collect::<Result<_, _>>()?;
-        let limits = *generator.graph().limits();
-        Ok(Self {
-            generator,
-            scene,
-            solids,
-            score,
-            limits,
-        })
-    }
-
-    /// Uses `limits` (`L_min`, `L_max`) for the length term instead of the
-    /// generator graph's own (an experiment may set its own limits).
-    #[must_use]
-    pub fn with_limits(mut self, limits: Limits) -> Self {
-        self.limits = limits;
-        self
-    }
-
-    /// The scene.
-    #[must_use]
-    pub fn scene(&self) -> &VolumeScene {
-        &self.scene
-    }
-
-    /// The counts of `chromosome`'s model (for reports and tests).
-    pub fn counts(
-        &self,
-        chromosome: &Chromosome,
-        scratch: &mut (VolumeScratch, Pending<G::State>),
-    ) -> VolumeCounts {
-        let (volume, pending) = scratch;
-        volume.begin();
-        let mut sink = VolumeSink {
-            scene: &self.scene,
-            solids: &self.solids,
-            scratch: volume,
-        };
-        self.generator.express_with(chromosome, &mut sink, pending);
-        volume.counts()
-    }
-}
-
-impl<G> Fitness for VolumeFitness<G>
-where
-    G: Generator,
-    G::State: Send,
-{
-    type Scratch = (VolumeScratch, Pending<G::State>);
-
-    fn scratch(&self) -> Self::Scratch {
-        (VolumeScratch::new(&self.scene), Pending::new())
-    }
-
-    fn evaluate(&self, chromosome: &Chromosome, scratch: &mut Self::Scratch) -> f64 {
-        let counts = self.counts(chromosome, scratch);
-        self.score.score(
-            &counts,
-            &self.scene,
-            chromosome.len(),
-            self.generator.graph().limits(),
-        )
-    }
-}
-
 /// Which image score, with its weights.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ImageScore {
@@ -232,50 +149,88 @@ impl ImageScore {
     }
 }
 
-/// Scores models of a generator against image targets.
+/// What a [`ModelFitness`] scores models against: a volume or image scene.
+///
+/// A scene prepares one shape per mesh, owns nothing per evaluation (the
+/// working memory is a [`Scene::Scratch`]), adds each emitted instance to the
+/// scratch, and turns the resulting counts into a score.
+pub trait Scene: Sync {
+    /// A mesh prepared for this scene.
+    type Shape: Sync;
+    /// Per-thread working memory.
+    type Scratch: Send;
+    /// What one model covers.
+    type Counts: Copy;
+    /// The score form and its weights.
+    type Score: Copy + Sync;
+
+    /// Prepares `mesh` (named `name` in errors).
+    fn prepare(&self, name: &str, mesh: &Mesh) -> Result<Self::Shape, ScoreError>;
+    /// Fresh working memory.
+    fn scratch(&self) -> Self::Scratch;
+    /// Clears the working memory for a new model.
+    fn begin(scratch: &mut Self::Scratch);
+    /// Adds one instance of `shape`.
+    fn add(&self, scratch: &mut Self::Scratch, shape: &Self::Shape, transform: &Affine3A);
+    /// The counts of the model added since [`begin`](Scene::begin).
+    fn counts(scratch: &Self::Scratch) -> Self::Counts;
+    /// The score of a model with `counts` and `len` genes.
+    fn score(&self, score: &Self::Score, counts: &Self::Counts, len: usize, limits: &Limits)
+    -> f64;
+}
+
+impl Scene for VolumeScene {
+    type Shape = Solid;
+    type Scratch = VolumeScratch;
+    type Counts = VolumeCounts;
+    type Score = VolumeScore;
+
+    fn prepare(&self, name: &str, mesh: &Mesh) -> Result<Solid, ScoreError> {
+        Solid::new(name, mesh)
+    }
+    fn scratch(&self) -> VolumeScratch {
+        VolumeScratch::new(self)
+    }
+    fn begin(scratch: &mut VolumeScratch) {
+        scratch.begin();
+    }
+    fn add(&self, scratch: &mut VolumeScratch, shape: &Solid, transform: &Affine3A) {
+        scratch.add(self, shape, transform);
+    }
+    fn counts(scratch: &VolumeScratch) -> VolumeCounts {
+        scratch.counts()
+    }
+    fn score(
+        &self,
+        score: &VolumeScore,
+        counts: &VolumeCounts,
+        len: usize,
+        limits: &Limits,
+    ) -> f64 {
+        score.score(counts, self, len, limits)
+    }
+}
+
+/// One or more image targets (each an image with its camera).
 #[derive(Clone, Debug)]
-pub struct ImageFitness<G> {
-    generator: G,
+pub struct ImageTargets {
     targets: Vec<ImageTarget>,
-    shapes: Vec<RasterShape>,
-    score: ImageScore,
-    limits: Limits,
     target_pixels: u64,
 }
 
-impl<G: Generator> ImageFitness<G> {
-    /// A fitness for `generator`'s models against `targets`, with one mesh per shape.
-    pub fn new(
-        generator: G,
-        targets: Vec<ImageTarget>,
-        shapes: &ShapeMeshes,
-        score: ImageScore,
-    ) -> Result<Self, ScoreError> {
+impl ImageTargets {
+    /// The targets; fails if there are none.
+    pub fn new(targets: Vec<ImageTarget>) -> Result<Self, ScoreError> {
         if targets.is_empty() {
             return Err(ScoreError::Target(
-                "an image fitness needs at least one target".into(),
+                "an image scene needs at least one target".into(),
             ));
         }
-        let raster = (0..generator.shapes().len())
-            .map(|i| RasterShape::new(shapes.name(i as u16), shapes.mesh(i as u16)))
-            .collect::<Result<_, _>>()?;
-        let limits = *generator.graph().limits();
         let target_pixels = targets.iter().map(ImageTarget::target_pixels).sum();
         Ok(Self {
-            generator,
             targets,
-            shapes: raster,
-            score,
-            limits,
             target_pixels,
         })
-    }
-
-    /// Uses `limits` for the length term instead of the generator graph's own.
-    #[must_use]
-    pub fn with_limits(mut self, limits: Limits) -> Self {
-        self.limits = limits;
-        self
     }
 
     /// The targets.
@@ -284,40 +239,141 @@ impl<G: Generator> ImageFitness<G> {
         &self.targets
     }
 
-    /// Renders `chromosome`'s silhouettes into `scratch` and returns the counts
-    /// (the masks stay readable through [`ImageScratch::covered`]).
-    pub fn counts(
-        &self,
-        chromosome: &Chromosome,
-        scratch: &mut (ImageScratch, Pending<G::State>),
-    ) -> ImageCounts {
-        let (image, pending) = scratch;
-        image.begin();
-        let mut sink = ImageSink {
-            targets: &self.targets,
-            shapes: &self.shapes,
-            scratch: image,
-        };
-        self.generator.express_with(chromosome, &mut sink, pending);
-        image.counts()
+    /// `T`: pixels with positive weight, over all targets.
+    #[must_use]
+    pub fn target_pixels(&self) -> u64 {
+        self.target_pixels
     }
 }
 
-impl<G> Fitness for ImageFitness<G>
+impl Scene for ImageTargets {
+    type Shape = RasterShape;
+    type Scratch = ImageScratch;
+    type Counts = ImageCounts;
+    type Score = ImageScore;
+
+    fn prepare(&self, name: &str, mesh: &Mesh) -> Result<RasterShape, ScoreError> {
+        RasterShape::new(name, mesh)
+    }
+    fn scratch(&self) -> ImageScratch {
+        ImageScratch::new(&self.targets)
+    }
+    fn begin(scratch: &mut ImageScratch) {
+        scratch.begin();
+    }
+    fn add(&self, scratch: &mut ImageScratch, shape: &RasterShape, transform: &Affine3A) {
+        scratch.add(&self.targets, shape, transform);
+    }
+    fn counts(scratch: &ImageScratch) -> ImageCounts {
+        scratch.counts()
+    }
+    fn score(&self, score: &ImageScore, counts: &ImageCounts, len: usize, limits: &Limits) -> f64 {
+        score.score(counts, self.target_pixels, len, limits)
+    }
+}
+
+/// Scores models of a generator against a [`Scene`]: expresses each
+/// chromosome, adding every emitted instance to the scene's scratch, and
+/// scores the counts. A [`Fitness`] for the optimizers.
+#[derive(Clone, Debug)]
+pub struct ModelFitness<G, S: Scene> {
+    generator: G,
+    scene: S,
+    shapes: Vec<S::Shape>,
+    score: S::Score,
+    limits: Limits,
+}
+
+/// Volume scoring ([`VolumeScene`]) of a generator's models.
+pub type VolumeFitness<G> = ModelFitness<G, VolumeScene>;
+
+/// Image scoring ([`ImageTargets`]) of a generator's models.
+pub type ImageFitness<G> = ModelFitness<G, ImageTargets>;
+
+impl<G: Generator, S: Scene> ModelFitness<G, S> {
+    /// A fitness for `generator`'s models on `scene`, with one mesh per shape.
+    pub fn new(
+        generator: G,
+        scene: S,
+        shapes: &ShapeMeshes,
+        score: S::Score,
+    ) -> Result<Self, ScoreError> {
+        let prepared = (0..generator.shapes().len())
+            .map(|i| scene.prepare(shapes.name(i as u16), shapes.mesh(i as u16)))
+            .collect::<Result<_, _>>()?;
+        let limits = *generator.graph().limits();
+        Ok(Self {
+            generator,
+            scene,
+            shapes: prepared,
+            score,
+            limits,
+        })
+    }
+
+    /// Uses `limits` (`L_min`, `L_max`) for the length term instead of the
+    /// generator graph's own (an experiment may set its own limits).
+    #[must_use]
+    pub fn with_limits(mut self, limits: Limits) -> Self {
+        self.limits = limits;
+        self
+    }
+
+    /// The scene.
+    #[must_use]
+    pub fn scene(&self) -> &S {
+        &self.scene
+    }
+
+    /// Expresses `chromosome` into `scratch` and returns its counts (the
+    /// scratch keeps the coverage for reports, e.g. an image overlay).
+    pub fn counts(
+        &self,
+        chromosome: &Chromosome,
+        scratch: &mut (S::Scratch, Pending<G::State>),
+    ) -> S::Counts {
+        let (inner, pending) = scratch;
+        S::begin(inner);
+        let mut sink = SceneSink {
+            scene: &self.scene,
+            shapes: &self.shapes,
+            scratch: inner,
+        };
+        self.generator.express_with(chromosome, &mut sink, pending);
+        S::counts(inner)
+    }
+}
+
+impl<G, S> Fitness for ModelFitness<G, S>
 where
     G: Generator,
     G::State: Send,
+    S: Scene,
 {
-    type Scratch = (ImageScratch, Pending<G::State>);
+    type Scratch = (S::Scratch, Pending<G::State>);
 
     fn scratch(&self) -> Self::Scratch {
-        (ImageScratch::new(&self.targets), Pending::new())
+        (self.scene.scratch(), Pending::new())
     }
 
     fn evaluate(&self, chromosome: &Chromosome, scratch: &mut Self::Scratch) -> f64 {
         let counts = self.counts(chromosome, scratch);
-        self.score
-            .score(&counts, self.target_pixels, chromosome.len(), &self.limits)
+        self.scene
+            .score(&self.score, &counts, chromosome.len(), &self.limits)
+    }
+}
+
+/// A [`ModelSink`] adding every emitted instance to a scene's scratch.
+struct SceneSink<'a, S: Scene> {
+    scene: &'a S,
+    shapes: &'a [S::Shape],
+    scratch: &'a mut S::Scratch,
+}
+
+impl<S: Scene> ModelSink for SceneSink<'_, S> {
+    fn emit(&mut self, shape: ShapeId, transform: &Affine3A) {
+        self.scene
+            .add(self.scratch, &self.shapes[shape as usize], transform);
     }
 }
 

@@ -8,7 +8,6 @@
 //! evaluation costs what the model covers, not the grid's size.
 
 use glam::Affine3A;
-use shapegen_core::express::{ModelSink, ShapeId};
 
 use crate::error::ScoreError;
 use crate::grid::Grid;
@@ -228,22 +227,5 @@ impl VolumeScratch {
     #[must_use]
     pub fn counts(&self) -> VolumeCounts {
         self.counts
-    }
-}
-
-/// A [`ModelSink`] that voxelizes each emitted instance into a [`VolumeScratch`].
-pub struct VolumeSink<'a> {
-    /// The scene counted against.
-    pub scene: &'a VolumeScene,
-    /// One solid per shape id.
-    pub solids: &'a [Solid],
-    /// The counts so far.
-    pub scratch: &'a mut VolumeScratch,
-}
-
-impl ModelSink for VolumeSink<'_> {
-    fn emit(&mut self, shape: ShapeId, transform: &Affine3A) {
-        self.scratch
-            .add(self.scene, &self.solids[shape as usize], transform);
     }
 }
