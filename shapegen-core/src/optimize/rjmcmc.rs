@@ -199,13 +199,23 @@ pub struct Rjmcmc {
     pub params: RjmcmcParams,
 }
 
-/// Level-biased selection among the genes accepted by `eligible`:
+/// Genes a jump may start from: non-root genes whose node has slots.
+fn jump_point(graph: &Graph) -> impl Fn(u32, u16) -> bool + '_ {
+    move |pos, node| pos != 0 && graph.layout(node).slots > 0
+}
+
+/// Genes a diffusion may alter: genes with parameters.
+fn has_params(graph: &Graph) -> impl Fn(u32, u16) -> bool + '_ {
+    move |_, node| graph.layout(node).param_words > 0
+}
+
+/// Level-biased selection among the genes accepted by `eligible(pos, node)`:
 /// a depth uniformly among the depths holding one, then a gene uniformly.
 /// Returns the chosen gene and its selection probability.
 fn select<R: Rng + ?Sized>(
     graph: &Graph,
     c: &Chromosome,
-    eligible: impl Fn(u16) -> bool,
+    eligible: impl Fn(u32, u16) -> bool,
     rng: &mut R,
 ) -> Option<(u32, f64)> {
     let by_level = levels(graph, c, &eligible);
@@ -217,14 +227,28 @@ fn select<R: Rng + ?Sized>(
     Some((v, 1.0 / (by_level.len() as f64 * level.len() as f64)))
 }
 
+/// Selection probability of `v` in `c` under [`select`] (0 if not eligible).
+fn selection_probability(
+    graph: &Graph,
+    c: &Chromosome,
+    v: u32,
+    eligible: impl Fn(u32, u16) -> bool,
+) -> f64 {
+    let by_level = levels(graph, c, &eligible);
+    by_level
+        .iter()
+        .find(|l| l.contains(&v))
+        .map_or(0.0, |l| 1.0 / (by_level.len() as f64 * l.len() as f64))
+}
+
 /// Eligible gene positions grouped by depth (non-empty levels only).
-fn levels(graph: &Graph, c: &Chromosome, eligible: &impl Fn(u16) -> bool) -> Vec<Vec<u32>> {
+fn levels(graph: &Graph, c: &Chromosome, eligible: &impl Fn(u32, u16) -> bool) -> Vec<Vec<u32>> {
     let mut depth_at = vec![0u32; c.words().len()];
     let mut out: Vec<Vec<u32>> = Vec::new();
     for g in c.genes(graph) {
         let d = g.parent().map_or(0, |p| depth_at[p as usize] + 1);
         depth_at[g.pos() as usize] = d;
-        if eligible(g.node()) {
+        if eligible(g.pos(), g.node()) {
             let d = d as usize;
             if out.len() <= d {
                 out.resize(d + 1, Vec::new());
@@ -323,9 +347,7 @@ impl Rjmcmc {
             jump: None,
         };
         if rng.random_bool(self.params.jump_probability) {
-            let eligible = |n: u16| graph.layout(n).slots > 0;
-            // Non-root genes only: the root (position 0) is never a jump point.
-            let Some((v, q)) = select_non_root(graph, x, eligible, rng) else {
+            let Some((v, q)) = select(graph, x, jump_point(graph), rng) else {
                 return unchanged(y);
             };
             let copy = self.params.delayed_rejection != DelayedRejection::Exact;
@@ -335,7 +357,7 @@ impl Rjmcmc {
                 return unchanged(x.clone());
             }
             let kept = x.len() - x.subtree_len(graph, v) + 1;
-            let q_back = selection_probability_non_root(graph, &y, v, eligible);
+            let q_back = selection_probability(graph, &y, v, jump_point(graph));
             Proposal {
                 state: y,
                 selection_ratio: q_back / q,
@@ -343,7 +365,7 @@ impl Rjmcmc {
                 jump: Some((v, q, kept)),
             }
         } else {
-            let Some((v, _)) = select(graph, x, |n| graph.layout(n).param_words > 0, rng) else {
+            let Some((v, _)) = select(graph, x, has_params(graph), rng) else {
                 return unchanged(y);
             };
             y.redraw_params(graph, v, rng);
@@ -396,43 +418,6 @@ impl Rjmcmc {
     }
 }
 
-fn select_non_root<R: Rng + ?Sized>(
-    graph: &Graph,
-    c: &Chromosome,
-    eligible: impl Fn(u16) -> bool,
-    rng: &mut R,
-) -> Option<(u32, f64)> {
-    let mut by_level = levels(graph, c, &eligible);
-    strip_root(&mut by_level);
-    if by_level.is_empty() {
-        return None;
-    }
-    let level = &by_level[rng.random_range(0..by_level.len())];
-    let v = level[rng.random_range(0..level.len())];
-    Some((v, 1.0 / (by_level.len() as f64 * level.len() as f64)))
-}
-
-fn selection_probability_non_root(
-    graph: &Graph,
-    c: &Chromosome,
-    v: u32,
-    eligible: impl Fn(u16) -> bool,
-) -> f64 {
-    let mut by_level = levels(graph, c, &eligible);
-    strip_root(&mut by_level);
-    by_level
-        .iter()
-        .find(|l| l.contains(&v))
-        .map_or(0.0, |l| 1.0 / (by_level.len() as f64 * l.len() as f64))
-}
-
-fn strip_root(levels: &mut Vec<Vec<u32>>) {
-    for l in levels.iter_mut() {
-        l.retain(|&p| p != 0);
-    }
-    levels.retain(|l| !l.is_empty());
-}
-
 impl Rjmcmc {
     /// The second stage for every chain whose jump was rejected.
     fn delayed_rejection<F: Fitness>(
@@ -467,7 +452,6 @@ impl Rjmcmc {
         let (evaluated, fresh) = evaluate(fitness, candidates, pool);
         progress.evaluations += fresh;
         let ll = self.params.log_likelihood;
-        let eligible = |n: u16| graph.layout(n).slots > 0;
         for ((i, _, u), y2) in second.iter().zip(evaluated) {
             let (i, beta) = (*i, betas[*i]);
             if !is_valid_score(y2.fitness) {
@@ -476,7 +460,7 @@ impl Rjmcmc {
             let (p1, _) = &proposals[i];
             let (v, q_x, _) = p1.jump.expect("only rejected jumps reach the second stage");
             let x = &chains[i];
-            let q_y2 = selection_probability_non_root(graph, &y2.chromosome, v, eligible);
+            let q_y2 = selection_probability(graph, &y2.chromosome, v, jump_point(graph));
             let log_alpha = match self.params.delayed_rejection {
                 DelayedRejection::Exact => {
                     let f_y1 = rejected.iter().find(|r| r.0 == i).map_or(f64::NAN, |r| r.1);
