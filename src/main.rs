@@ -12,13 +12,15 @@ use std::path::{Path, PathBuf};
 use clap::Parser;
 use serde::Serialize;
 use shapegen::demo::spaceship_target;
-use shapegen::glam::{UVec3, Vec3};
+use shapegen::express::{Instance, ShapeId};
+use shapegen::glam::{Affine3A, UVec3, Vec3};
 use shapegen::prelude::*;
 use shapegen::scenes::Spaceship;
 use shapegen::score::Grid;
-use shapegen::score::obj::{ShapeMeshes, write_model};
+use shapegen::score::obj::{ShapeMeshes, write_model, write_obj};
 use shapegen::score::score::{VolumeFitness, VolumeScore};
 use shapegen::score::volume::VolumeScene;
+use shapegen::score::volume::VolumeTarget;
 
 /// Evolves procedural models toward a target with a genetic algorithm.
 #[derive(Debug, Parser)]
@@ -236,23 +238,21 @@ fn run(args: Args) -> Result<(), Box<dyn Error>> {
     Ok(())
 }
 
-/// The target boxes as one OBJ, to open beside `best.obj`.
-fn write_target(
-    path: &Path,
-    targets: &[shapegen::score::volume::VolumeTarget],
-) -> Result<(), Box<dyn Error>> {
+/// The target meshes as one OBJ (one object each), to open beside `best.obj`.
+fn write_target(path: &Path, targets: &[VolumeTarget]) -> Result<(), Box<dyn Error>> {
+    let names = targets
+        .iter()
+        .map(|t| t.name.replace(' ', "_").into())
+        .collect();
+    let shapes = ShapeMeshes::new(names, targets.iter().map(|t| t.mesh.clone()).collect())?;
+    let instances: Vec<Instance> = (0..targets.len())
+        .map(|i| Instance {
+            shape: i as ShapeId,
+            transform: Affine3A::IDENTITY,
+        })
+        .collect();
     let mut text = Vec::new();
-    let mut base = 1;
-    for t in targets {
-        writeln!(text, "o {}", t.name.replace(' ', "_"))?;
-        for p in &t.mesh.positions {
-            writeln!(text, "v {} {} {}", p.x, p.y, p.z)?;
-        }
-        for f in &t.mesh.triangles {
-            writeln!(text, "f {} {} {}", f[0] + base, f[1] + base, f[2] + base)?;
-        }
-        base += t.mesh.positions.len() as u32;
-    }
+    write_obj(&mut text, &instances, &shapes)?;
     write_atomically(path, std::str::from_utf8(&text)?)
 }
 

@@ -29,6 +29,18 @@ impl ShapeMeshes {
         Ok(Self { names, meshes })
     }
 
+    /// Named meshes given directly: shape `i` is `names[i]` with `meshes[i]`.
+    pub fn new(names: Vec<Cow<'static, str>>, meshes: Vec<Mesh>) -> Result<Self, ScoreError> {
+        if names.len() != meshes.len() {
+            return Err(ScoreError::Target(format!(
+                "{} shape names for {} meshes",
+                names.len(),
+                meshes.len()
+            )));
+        }
+        Ok(Self { names, meshes })
+    }
+
     /// Replaces the mesh of shape `name` (e.g. by one loaded from a file).
     pub fn set(&mut self, name: &str, mesh: Mesh) -> Result<(), ScoreError> {
         let i = self
