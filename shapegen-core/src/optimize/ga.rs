@@ -5,6 +5,7 @@ use std::collections::HashSet;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use super::checkpoint::{Checkpoint, RunId, SavedIndividual, SavedState, params_fingerprint};
 use super::fitness::is_valid_score;
 use super::progress::{Candidate, Progress, evaluate};
 use super::scratch::ScratchPool;
@@ -222,24 +223,61 @@ impl Optimizer for Ga {
         "ga"
     }
 
-    fn run<F: Fitness>(
+    fn run_from<F: Fitness>(
         &self,
         graph: &Graph,
         fitness: &F,
         budget: &Budget,
         seed: u64,
+        start: Option<&Checkpoint>,
         observer: &mut dyn Observer,
     ) -> Result<RunResult, OptimizeError> {
-        let mut progress = Progress::start(self.params.problems(), *budget, observer)?;
+        let id = RunId {
+            graph,
+            method: self.name(),
+            params: params_fingerprint(&self.params),
+            seed,
+        };
+        let mut progress = Progress::start(id, self.params.problems(), *budget, observer)?;
         let pool = ScratchPool::new();
-        let (mut population, fresh) =
-            evaluate(fitness, self.initial_population(graph, seed)?, &pool);
-        progress.evaluations += fresh;
+        let mut resumed = false;
+        let mut population = match start {
+            Some(cp) => {
+                let SavedState::Population { individuals } = progress.resume(cp)? else {
+                    return Err(OptimizeError::Checkpoint(
+                        "it holds no GA population".into(),
+                    ));
+                };
+                resumed = true;
+                individuals
+                    .iter()
+                    .map(|i| i.restore(graph))
+                    .collect::<Result<Vec<_>, _>>()?
+            }
+            None => {
+                let (population, fresh) =
+                    evaluate(fitness, self.initial_population(graph, seed)?, &pool);
+                progress.evaluations += fresh;
+                population
+            }
+        };
         let mut wheel = Roulette::default();
         let mut scores = Vec::with_capacity(self.params.population);
         loop {
             population.sort_by(|a, b| rank_order(a.fitness, b.fitness));
-            if let Some(stop) = progress.generation_done(&population) {
+            let stop = if std::mem::take(&mut resumed) {
+                // This generation was reported before the checkpoint.
+                progress.budget_reached()
+            } else {
+                let save = || SavedState::Population {
+                    individuals: population
+                        .iter()
+                        .map(|i| SavedIndividual::save(graph, i))
+                        .collect(),
+                };
+                progress.generation_done(&population, &save)
+            };
+            if let Some(stop) = stop {
                 return Ok(progress.finish(stop, population));
             }
             progress.generation += 1;

@@ -11,6 +11,7 @@
 //! the current rayon pool; run inside `ThreadPool::install` to choose threads.
 
 mod budget;
+mod checkpoint;
 mod fitness;
 mod ga;
 mod observer;
@@ -24,6 +25,7 @@ mod smc;
 use std::time::Duration;
 
 pub use budget::{Budget, StopReason};
+pub use checkpoint::{CHECKPOINT_VERSION, Checkpoint, SavedIndividual, SavedParticle, SavedState};
 pub use fitness::{Fitness, FnFitness, is_valid_score};
 pub use ga::{Ga, GaParams};
 pub use observer::{GenerationStats, NoObserver, Observer};
@@ -78,6 +80,9 @@ pub enum OptimizeError {
     /// The initial population could not be built.
     #[error("cannot build the initial population: {0}")]
     Init(#[from] OpError),
+    /// A checkpoint that does not belong to this run.
+    #[error("cannot resume from this checkpoint: {0}")]
+    Checkpoint(String),
 }
 
 /// An optimization method over the chromosomes of a generator graph.
@@ -93,6 +98,43 @@ pub trait Optimizer {
         fitness: &F,
         budget: &Budget,
         seed: u64,
+        observer: &mut dyn Observer,
+    ) -> Result<RunResult, OptimizeError> {
+        self.run_from(graph, fitness, budget, seed, None, observer)
+    }
+
+    /// Continues the run saved in `checkpoint` (see
+    /// [`GenerationStats::checkpoint`]) until `budget` is spent — counted
+    /// from the start of the original run — exactly as the uninterrupted run
+    /// would have. Refuses a checkpoint of another method, parameter set,
+    /// seed or generator graph.
+    fn resume<F: Fitness>(
+        &self,
+        graph: &Graph,
+        fitness: &F,
+        budget: &Budget,
+        checkpoint: &Checkpoint,
+        observer: &mut dyn Observer,
+    ) -> Result<RunResult, OptimizeError> {
+        self.run_from(
+            graph,
+            fitness,
+            budget,
+            checkpoint.seed,
+            Some(checkpoint),
+            observer,
+        )
+    }
+
+    /// [`run`](Self::run) from the beginning (`start = None`) or
+    /// [`resume`](Self::resume) from a checkpoint.
+    fn run_from<F: Fitness>(
+        &self,
+        graph: &Graph,
+        fitness: &F,
+        budget: &Budget,
+        seed: u64,
+        start: Option<&Checkpoint>,
         observer: &mut dyn Observer,
     ) -> Result<RunResult, OptimizeError>;
 }

@@ -3,6 +3,8 @@
 use std::ops::ControlFlow;
 use std::time::Duration;
 
+use super::Individual;
+use super::checkpoint::{CHECKPOINT_VERSION, Checkpoint, RunId, SavedIndividual, SavedState};
 use crate::genome::Chromosome;
 
 /// What an optimizer reports after each generation.
@@ -26,6 +28,44 @@ pub struct GenerationStats<'a> {
     pub best_so_far: f64,
     /// The chromosome with [`best_so_far`](Self::best_so_far).
     pub best_chromosome: &'a Chromosome,
+    pub(crate) snapshot: Snapshot<'a>,
+}
+
+impl GenerationStats<'_> {
+    /// A snapshot of the run after this generation, from which
+    /// [`Optimizer::resume`](super::Optimizer::resume) continues exactly as
+    /// if the run had never stopped. Costs a copy of the population.
+    #[must_use]
+    pub fn checkpoint(&self) -> Checkpoint {
+        let s = &self.snapshot;
+        Checkpoint {
+            version: CHECKPOINT_VERSION,
+            method: s.id.method.to_string(),
+            params: format!("{:016x}", s.id.params),
+            seed: s.id.seed,
+            generation: self.generation,
+            evaluations: self.evaluations,
+            elapsed: self.elapsed,
+            best: SavedIndividual::save(s.id.graph, s.best),
+            state: (s.state)(),
+        }
+    }
+}
+
+/// What [`GenerationStats::checkpoint`] needs from the optimizer.
+#[derive(Clone, Copy)]
+pub(crate) struct Snapshot<'a> {
+    pub id: RunId<'a>,
+    pub best: &'a Individual,
+    pub state: &'a dyn Fn() -> SavedState,
+}
+
+impl std::fmt::Debug for Snapshot<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Snapshot")
+            .field("method", &self.id.method)
+            .finish_non_exhaustive()
+    }
 }
 
 /// Called once per generation; returning `ControlFlow::Break(())` stops the

@@ -2,13 +2,14 @@
 //! observer calls and budget checks.
 
 use std::ops::ControlFlow;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
 
 use super::budget::{Budget, StopReason};
+use super::checkpoint::{Checkpoint, RunId, SavedState};
 use super::fitness::{Fitness, is_valid_score};
-use super::observer::{GenerationStats, Observer, mean_std};
+use super::observer::{GenerationStats, Observer, Snapshot, mean_std};
 use super::scratch::ScratchPool;
 use super::selection::rank_order;
 use super::{Individual, OptimizeError, RunResult};
@@ -61,7 +62,10 @@ pub(crate) fn evaluate<F: Fitness>(
 
 /// Counts, best-so-far, observer and budget of one run.
 pub(crate) struct Progress<'o> {
+    id: RunId<'o>,
     start: Instant,
+    /// Time spent before a resumed checkpoint.
+    offset: Duration,
     budget: Budget,
     observer: &'o mut dyn Observer,
     pub evaluations: u64,
@@ -73,6 +77,7 @@ impl<'o> Progress<'o> {
     /// Checks an optimizer's parameter `problems` (all reported at once) and
     /// the budget, then starts the clock.
     pub fn start(
+        id: RunId<'o>,
         problems: Vec<String>,
         budget: Budget,
         observer: &'o mut dyn Observer,
@@ -80,16 +85,13 @@ impl<'o> Progress<'o> {
         if !problems.is_empty() {
             return Err(OptimizeError::Params(problems.join("; ")));
         }
-        Self::new(budget, observer)
-    }
-
-    /// Starts the clock; refuses a budget without limits.
-    pub fn new(budget: Budget, observer: &'o mut dyn Observer) -> Result<Self, OptimizeError> {
         if budget.is_unbounded() {
             return Err(OptimizeError::UnboundedBudget);
         }
         Ok(Self {
+            id,
             start: Instant::now(),
+            offset: Duration::ZERO,
             budget,
             observer,
             evaluations: 0,
@@ -98,9 +100,45 @@ impl<'o> Progress<'o> {
         })
     }
 
+    /// Continues the counters of `checkpoint` (refusing one of another run)
+    /// and returns its optimizer state.
+    pub fn resume<'c>(
+        &mut self,
+        checkpoint: &'c Checkpoint,
+    ) -> Result<&'c SavedState, OptimizeError> {
+        self.id.check(checkpoint)?;
+        self.generation = checkpoint.generation;
+        self.evaluations = checkpoint.evaluations;
+        self.offset = checkpoint.elapsed;
+        self.best = Some(checkpoint.best.restore(self.id.graph)?);
+        Ok(&checkpoint.state)
+    }
+
+    fn elapsed(&self) -> Duration {
+        self.offset + self.start.elapsed()
+    }
+
+    /// Whether the budget is spent (checked right after a resume, where the
+    /// generation was already reported before the checkpoint).
+    pub fn budget_reached(&self) -> Option<StopReason> {
+        let best = self
+            .best
+            .as_ref()
+            .map(|b| b.fitness)
+            .filter(|f| is_valid_score(*f))
+            .unwrap_or(f64::NEG_INFINITY);
+        self.budget
+            .reached(self.generation, self.evaluations, self.elapsed(), best)
+    }
+
     /// Records a finished generation (`population` need not be sorted) and
     /// tells whether to stop.
-    pub fn generation_done(&mut self, population: &[Individual]) -> Option<StopReason> {
+    /// `state` saves the optimizer's state when the observer asks for a checkpoint.
+    pub fn generation_done(
+        &mut self,
+        population: &[Individual],
+        state: &dyn Fn() -> SavedState,
+    ) -> Option<StopReason> {
         let best = population
             .iter()
             .min_by(|a, b| rank_order(a.fitness, b.fitness));
@@ -115,7 +153,7 @@ impl<'o> Progress<'o> {
         }
         let best_so_far = self.best.as_ref().expect("a population is never empty");
         let (mean, std) = mean_std(population.iter().map(|i| i.fitness));
-        let elapsed = self.start.elapsed();
+        let elapsed = self.elapsed();
         let stats = GenerationStats {
             generation: self.generation,
             evaluations: self.evaluations,
@@ -129,6 +167,11 @@ impl<'o> Progress<'o> {
                 .count(),
             best_so_far: best_so_far.fitness,
             best_chromosome: &best_so_far.chromosome,
+            snapshot: Snapshot {
+                id: self.id,
+                best: best_so_far,
+                state,
+            },
         };
         if let ControlFlow::Break(()) = self.observer.generation(&stats) {
             return Some(StopReason::Observer);
@@ -145,13 +188,14 @@ impl<'o> Progress<'o> {
     /// The result of the run.
     pub fn finish(self, stop: StopReason, mut population: Vec<Individual>) -> RunResult {
         population.sort_by(|a, b| rank_order(a.fitness, b.fitness));
+        let elapsed = self.elapsed();
         let best = self.best.expect("a population is never empty");
         RunResult {
             best: best.chromosome,
             best_fitness: best.fitness,
             evaluations: self.evaluations,
             generations: self.generation,
-            elapsed: self.start.elapsed(),
+            elapsed,
             stop,
             population,
         }

@@ -2,6 +2,7 @@
 
 use rayon::prelude::*;
 
+use super::checkpoint::{Checkpoint, RunId, SavedState, params_fingerprint};
 use super::progress::{Candidate, Progress, evaluate};
 use super::scratch::ScratchPool;
 use super::selection::rank_order;
@@ -24,12 +25,13 @@ impl Optimizer for RandomSearch {
         "random"
     }
 
-    fn run<F: Fitness>(
+    fn run_from<F: Fitness>(
         &self,
         graph: &Graph,
         fitness: &F,
         budget: &Budget,
         seed: u64,
+        start: Option<&Checkpoint>,
         observer: &mut dyn Observer,
     ) -> Result<RunResult, OptimizeError> {
         let problems = if self.batch == 0 {
@@ -37,7 +39,22 @@ impl Optimizer for RandomSearch {
         } else {
             Vec::new()
         };
-        let mut progress = Progress::start(problems, *budget, observer)?;
+        let id = RunId {
+            graph,
+            method: self.name(),
+            params: params_fingerprint(self),
+            seed,
+        };
+        let mut progress = Progress::start(id, problems, *budget, observer)?;
+        if let Some(cp) = start {
+            // Batches are independent: the counters and the best are the state.
+            progress.resume(cp)?;
+            let best = cp.best.restore(graph)?;
+            if let Some(stop) = progress.budget_reached() {
+                return Ok(progress.finish(stop, vec![best]));
+            }
+            progress.generation += 1;
+        }
         let pool = ScratchPool::new();
         loop {
             let g = progress.generation;
@@ -50,7 +67,10 @@ impl Optimizer for RandomSearch {
                 .collect::<Result<_, _>>()?;
             let (mut population, fresh) = evaluate(fitness, batch, &pool);
             progress.evaluations += fresh;
-            if let Some(stop) = progress.generation_done(&population) {
+            let save = || SavedState::Population {
+                individuals: Vec::new(),
+            };
+            if let Some(stop) = progress.generation_done(&population, &save) {
                 population.sort_by(|a, b| rank_order(a.fitness, b.fitness));
                 population.truncate(1);
                 return Ok(progress.finish(stop, population));

@@ -32,6 +32,7 @@ use rand::{Rng, RngExt};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use super::checkpoint::{Checkpoint, RunId, SavedIndividual, SavedState, params_fingerprint};
 use super::fitness::is_valid_score;
 use super::progress::{Candidate, Progress, evaluate};
 use super::scratch::ScratchPool;
@@ -504,32 +505,79 @@ impl Optimizer for Rjmcmc {
         "rjmcmc"
     }
 
-    fn run<F: Fitness>(
+    fn run_from<F: Fitness>(
         &self,
         graph: &Graph,
         fitness: &F,
         budget: &Budget,
         seed: u64,
+        start: Option<&Checkpoint>,
         observer: &mut dyn Observer,
     ) -> Result<RunResult, OptimizeError> {
-        let mut progress = Progress::start(self.params.problems(), *budget, observer)?;
+        let id = RunId {
+            graph,
+            method: self.name(),
+            params: params_fingerprint(&self.params),
+            seed,
+        };
+        let mut progress = Progress::start(id, self.params.problems(), *budget, observer)?;
         let pool = ScratchPool::new();
-        let init: Vec<Candidate> = (0..self.params.chains as u64)
-            .into_par_iter()
-            .map(|i| {
-                Ok(Candidate::new(random_individual(
-                    graph,
-                    &self.params.init,
-                    &mut stream(seed, &[0, i, purpose::INIT]),
-                )?))
-            })
-            .collect::<Result<_, OptimizeError>>()?;
-        let (mut chains, fresh) = evaluate(fitness, init, &pool);
-        progress.evaluations += fresh;
-        let mut betas = self.params.ladder.betas(self.params.chains);
+        let mut resumed = false;
+        let (mut chains, mut betas) = match start {
+            Some(cp) => {
+                let SavedState::Chains { chains, betas_bits } = progress.resume(cp)? else {
+                    return Err(OptimizeError::Checkpoint(
+                        "it holds no RJMCMC chains".into(),
+                    ));
+                };
+                if chains.len() != self.params.chains || betas_bits.len() != chains.len() {
+                    return Err(OptimizeError::Checkpoint(format!(
+                        "it holds {} chains, not {}",
+                        chains.len(),
+                        self.params.chains
+                    )));
+                }
+                resumed = true;
+                let chains = chains
+                    .iter()
+                    .map(|c| c.restore(graph))
+                    .collect::<Result<Vec<_>, _>>()?;
+                (
+                    chains,
+                    betas_bits.iter().map(|&b| f64::from_bits(b)).collect(),
+                )
+            }
+            None => {
+                let init: Vec<Candidate> = (0..self.params.chains as u64)
+                    .into_par_iter()
+                    .map(|i| {
+                        Ok(Candidate::new(random_individual(
+                            graph,
+                            &self.params.init,
+                            &mut stream(seed, &[0, i, purpose::INIT]),
+                        )?))
+                    })
+                    .collect::<Result<_, OptimizeError>>()?;
+                let (chains, fresh) = evaluate(fitness, init, &pool);
+                progress.evaluations += fresh;
+                (chains, self.params.ladder.betas(self.params.chains))
+            }
+        };
         let ll = self.params.log_likelihood;
         loop {
-            if let Some(stop) = progress.generation_done(&chains) {
+            let stop = if std::mem::take(&mut resumed) {
+                progress.budget_reached()
+            } else {
+                let save = || SavedState::Chains {
+                    chains: chains
+                        .iter()
+                        .map(|c| SavedIndividual::save(graph, c))
+                        .collect(),
+                    betas_bits: betas.iter().map(|b| b.to_bits()).collect(),
+                };
+                progress.generation_done(&chains, &save)
+            };
+            if let Some(stop) = stop {
                 return Ok(progress.finish(stop, chains));
             }
             progress.generation += 1;

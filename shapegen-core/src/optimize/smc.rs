@@ -20,6 +20,9 @@ use rand::{Rng, RngExt};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use super::checkpoint::{
+    Checkpoint, RunId, SavedIndividual, SavedParticle, SavedState, params_fingerprint,
+};
 use super::fitness::is_valid_score;
 use super::progress::{Candidate, Progress, evaluate};
 use super::scratch::ScratchPool;
@@ -150,6 +153,42 @@ impl Particle {
         };
         p.open_slots(graph, 0, 0);
         p
+    }
+
+    fn save(&self, graph: &Graph) -> SavedParticle {
+        SavedParticle {
+            individual: SavedIndividual::new(graph, &self.chromosome, self.fitness),
+            open: self.open.clone(),
+            previous_bits: self.previous.to_bits(),
+        }
+    }
+
+    fn restore(graph: &Graph, saved: &SavedParticle) -> Result<Self, OptimizeError> {
+        let Individual {
+            chromosome,
+            fitness,
+        } = saved.individual.restore(graph)?;
+        // Every open slot must be an empty slot of a gene of the chromosome.
+        for &(pos, slot, _) in &saved.open {
+            let gene = chromosome
+                .positions()
+                .binary_search(&pos)
+                .ok()
+                .map(|_| chromosome.gene(graph, pos));
+            if !gene
+                .is_some_and(|g| slot < g.slot_count() as u32 && g.child(slot as usize).is_none())
+            {
+                return Err(OptimizeError::Checkpoint(format!(
+                    "a particle's open slot {slot} of gene {pos} is not an empty slot"
+                )));
+            }
+        }
+        Ok(Self {
+            chromosome,
+            open: saved.open.clone(),
+            previous: f64::from_bits(saved.previous_bits),
+            fitness,
+        })
     }
 
     fn finished(&self) -> bool {
@@ -306,84 +345,113 @@ impl Optimizer for Smc {
         }
     }
 
-    fn run<F: Fitness>(
+    fn run_from<F: Fitness>(
         &self,
         graph: &Graph,
         fitness: &F,
         budget: &Budget,
         seed: u64,
+        start: Option<&Checkpoint>,
         observer: &mut dyn Observer,
     ) -> Result<RunResult, OptimizeError> {
-        let mut progress = Progress::start(self.params.problems(), *budget, observer)?;
+        let id = RunId {
+            graph,
+            method: self.name(),
+            params: params_fingerprint(&self.params),
+            seed,
+        };
+        let mut progress = Progress::start(id, self.params.problems(), *budget, observer)?;
         let pool = ScratchPool::new();
         let order = self.params.order;
-        let mut particles: Vec<Particle> = (0..self.params.particles as u64)
-            .into_par_iter()
-            .map(|i| Particle::new(graph, &mut stream(seed, &[0, i, purpose::INIT])))
-            .collect();
-        // Score the starting models (root genes) so incremental weights start from them.
-        let roots = particles
-            .iter()
-            .map(|p| Candidate::new(p.chromosome.clone()))
-            .collect();
-        let (evaluated, fresh) = evaluate(fitness, roots, &pool);
-        progress.evaluations += fresh;
-        for (p, e) in particles.iter_mut().zip(&evaluated) {
-            p.fitness = e.fitness;
-        }
+        let mut resumed = false;
+        let mut particles: Vec<Particle> = match start {
+            Some(cp) => {
+                let SavedState::Particles { particles } = progress.resume(cp)? else {
+                    return Err(OptimizeError::Checkpoint(
+                        "it holds no SMC particles".into(),
+                    ));
+                };
+                if particles.len() != self.params.particles {
+                    return Err(OptimizeError::Checkpoint(format!(
+                        "it holds {} particles, not {}",
+                        particles.len(),
+                        self.params.particles
+                    )));
+                }
+                resumed = true;
+                particles
+                    .iter()
+                    .map(|p| Particle::restore(graph, p))
+                    .collect::<Result<_, _>>()?
+            }
+            None => {
+                let mut particles: Vec<Particle> = (0..self.params.particles as u64)
+                    .into_par_iter()
+                    .map(|i| Particle::new(graph, &mut stream(seed, &[0, i, purpose::INIT])))
+                    .collect();
+                // Score the starting models (root genes) so incremental weights start from them.
+                let roots = particles
+                    .iter()
+                    .map(|p| Candidate::new(p.chromosome.clone()))
+                    .collect();
+                let (evaluated, fresh) = evaluate(fitness, roots, &pool);
+                progress.evaluations += fresh;
+                for (p, e) in particles.iter_mut().zip(&evaluated) {
+                    p.fitness = e.fitness;
+                }
+                particles
+            }
+        };
         let (mut weights, mut picks) = (Vec::new(), Vec::new());
         let min_len = graph.limits().min_len as usize;
         loop {
-            progress.generation += 1;
+            let stop = if std::mem::take(&mut resumed) {
+                // This generation was reported before the checkpoint.
+                progress.budget_reached()
+            } else {
+                progress.generation += 1;
+                let g = progress.generation;
+                // Step every unfinished particle; evaluate the ones that changed.
+                let changed: Vec<bool> = particles
+                    .par_iter_mut()
+                    .enumerate()
+                    .map(|(i, p)| {
+                        !p.finished()
+                            && p.step(
+                                graph,
+                                order,
+                                &mut stream(seed, &[g, i as u64, purpose::BREED]),
+                            )
+                    })
+                    .collect();
+                let candidates: Vec<Candidate> = particles
+                    .iter()
+                    .zip(&changed)
+                    .map(|(p, &c)| Candidate {
+                        chromosome: p.chromosome.clone(),
+                        fitness: (!c && p.fitness.is_finite()).then_some(p.fitness),
+                    })
+                    .collect();
+                let (evaluated, fresh) = evaluate(fitness, candidates, &pool);
+                progress.evaluations += fresh;
+                for (p, e) in particles.iter_mut().zip(&evaluated) {
+                    p.previous = p.fitness;
+                    p.fitness = e.fitness;
+                }
+                let save = || SavedState::Particles {
+                    particles: particles.iter().map(|p| p.save(graph)).collect(),
+                };
+                progress.generation_done(&report(evaluated, min_len), &save)
+            };
+            if let Some(stop) = stop {
+                return Ok(progress.finish(stop, report_particles(&particles, min_len)));
+            }
+            if particles.iter().all(Particle::finished) {
+                return Ok(
+                    progress.finish(StopReason::Exhausted, report_particles(&particles, min_len))
+                );
+            }
             let g = progress.generation;
-            // Step every unfinished particle; evaluate the ones that changed.
-            let changed: Vec<bool> = particles
-                .par_iter_mut()
-                .enumerate()
-                .map(|(i, p)| {
-                    !p.finished()
-                        && p.step(
-                            graph,
-                            order,
-                            &mut stream(seed, &[g, i as u64, purpose::BREED]),
-                        )
-                })
-                .collect();
-            let candidates: Vec<Candidate> = particles
-                .iter()
-                .zip(&changed)
-                .map(|(p, &c)| Candidate {
-                    chromosome: p.chromosome.clone(),
-                    fitness: (!c && p.fitness.is_finite()).then_some(p.fitness),
-                })
-                .collect();
-            let (evaluated, fresh) = evaluate(fitness, candidates, &pool);
-            progress.evaluations += fresh;
-            for (p, e) in particles.iter_mut().zip(&evaluated) {
-                p.previous = p.fitness;
-                p.fitness = e.fitness;
-            }
-            // Report only particles long enough to be valid models.
-            let report: Vec<Individual> = evaluated
-                .into_iter()
-                .map(|i| {
-                    if i.chromosome.len() >= min_len {
-                        i
-                    } else {
-                        Individual {
-                            fitness: f64::NAN,
-                            ..i
-                        }
-                    }
-                })
-                .collect();
-            let all_finished = particles.iter().all(Particle::finished);
-            if let Some(stop) = progress.generation_done(&report) {
-                return Ok(progress.finish(stop, report));
-            }
-            if all_finished {
-                return Ok(progress.finish(StopReason::Exhausted, report));
-            }
             self.weights(&particles, &mut weights);
             resample(
                 &weights,
@@ -394,6 +462,36 @@ impl Optimizer for Smc {
             particles = picks.iter().map(|&k| particles[k].clone()).collect();
         }
     }
+}
+
+/// The population an observer sees: particles too short to be valid models
+/// count as failed evaluations.
+fn report(evaluated: Vec<Individual>, min_len: usize) -> Vec<Individual> {
+    evaluated
+        .into_iter()
+        .map(|i| {
+            if i.chromosome.len() >= min_len {
+                i
+            } else {
+                Individual {
+                    fitness: f64::NAN,
+                    ..i
+                }
+            }
+        })
+        .collect()
+}
+
+/// [`report`] of the particles themselves.
+fn report_particles(particles: &[Particle], min_len: usize) -> Vec<Individual> {
+    let individuals = particles
+        .iter()
+        .map(|p| Individual {
+            chromosome: p.chromosome.clone(),
+            fitness: p.fitness,
+        })
+        .collect();
+    report(individuals, min_len)
 }
 
 #[cfg(test)]

@@ -1,0 +1,161 @@
+//! Checkpoint and resume: a run stopped after generation `k` and resumed from
+//! its checkpoint (through JSON, as the CLI stores it) ends bit-identically to
+//! the run that was never stopped, for every optimizer; checkpoints of
+//! another run are refused.
+
+use std::ops::ControlFlow;
+
+use shapegen::demo::{BlocksTarget, blocks_graph};
+use shapegen::optimize::{Checkpoint, Rjmcmc, RjmcmcParams, SavedState, Smc, SmcParams};
+use shapegen::prelude::*;
+
+const TOTAL: u64 = 14;
+const STOP_AT: u64 = 5;
+
+/// Runs `opt` for `TOTAL` generations in one go, and again stopped at
+/// `STOP_AT` then resumed from the JSON checkpoint; both must agree exactly.
+fn check<O: Optimizer>(opt: &O, seed: u64) {
+    let graph = blocks_graph();
+    let fitness = BlocksTarget {
+        graph: &graph,
+        blocks: 12,
+    };
+    let budget = Budget::generations(TOTAL);
+    let mut whole_curve = Vec::new();
+    let mut observer = |s: &GenerationStats<'_>| {
+        whole_curve.push((s.generation, s.evaluations, s.best.to_bits()));
+        ControlFlow::Continue(())
+    };
+    let whole = opt
+        .run(&graph, &fitness, &budget, seed, &mut observer)
+        .unwrap();
+
+    let mut saved: Option<String> = None;
+    let mut first_curve = Vec::new();
+    let mut stop_early = |s: &GenerationStats<'_>| {
+        first_curve.push((s.generation, s.evaluations, s.best.to_bits()));
+        if s.generation == STOP_AT {
+            saved = Some(serde_json::to_string(&s.checkpoint()).unwrap());
+            return ControlFlow::Break(());
+        }
+        ControlFlow::Continue(())
+    };
+    let first = opt
+        .run(&graph, &fitness, &budget, seed, &mut stop_early)
+        .unwrap();
+    assert_eq!(first.stop, StopReason::Observer);
+    let checkpoint: Checkpoint = serde_json::from_str(&saved.unwrap()).unwrap();
+    assert_eq!(checkpoint.generation, STOP_AT);
+
+    let mut rest_curve = Vec::new();
+    let mut observer = |s: &GenerationStats<'_>| {
+        rest_curve.push((s.generation, s.evaluations, s.best.to_bits()));
+        ControlFlow::Continue(())
+    };
+    let resumed = opt
+        .resume(&graph, &fitness, &budget, &checkpoint, &mut observer)
+        .unwrap();
+
+    let name = opt.name();
+    assert_eq!(resumed.best, whole.best, "{name}: best chromosome");
+    assert_eq!(
+        resumed.best_fitness.to_bits(),
+        whole.best_fitness.to_bits(),
+        "{name}"
+    );
+    assert_eq!(resumed.evaluations, whole.evaluations, "{name}");
+    assert_eq!(resumed.generations, whole.generations, "{name}");
+    assert_eq!(resumed.stop, whole.stop, "{name}");
+    assert_eq!(resumed.population, whole.population, "{name}: population");
+    // The two halves of the curve make the whole one (no generation twice).
+    first_curve.extend(rest_curve);
+    assert_eq!(first_curve, whole_curve, "{name}: curve");
+}
+
+#[test]
+fn every_optimizer_resumes_bit_identically() {
+    let init = InitLength::Around { l0: 12 };
+    for seed in [3, 11] {
+        check(
+            &Ga::new(GaParams {
+                population: 40,
+                elites: 8,
+                init,
+                ..GaParams::paper_spaceship()
+            }),
+            seed,
+        );
+        check(&Smc::new(SmcParams::paper(60)), seed);
+        check(&Smc::new(SmcParams::paper_sosmc(60)), seed);
+        check(&Rjmcmc::new(RjmcmcParams::paper(20, init)), seed);
+        check(&RandomSearch { batch: 30, init }, seed);
+    }
+}
+
+#[test]
+fn foreign_checkpoints_are_refused() {
+    let graph = blocks_graph();
+    let fitness = BlocksTarget {
+        graph: &graph,
+        blocks: 12,
+    };
+    let init = InitLength::Around { l0: 12 };
+    let ga = Ga::new(GaParams {
+        population: 30,
+        elites: 5,
+        init,
+        ..GaParams::paper_spaceship()
+    });
+    let mut saved = None;
+    let mut observer = |s: &GenerationStats<'_>| {
+        saved = Some(s.checkpoint());
+        ControlFlow::Continue(())
+    };
+    ga.run(&graph, &fitness, &Budget::generations(2), 7, &mut observer)
+        .unwrap();
+    let cp = saved.unwrap();
+    let budget = Budget::generations(4);
+    let refused = |r: Result<RunResult, OptimizeError>| match r {
+        Err(OptimizeError::Checkpoint(why)) => why,
+        other => panic!("expected a refusal, got {other:?}"),
+    };
+    // Another method.
+    let why = refused(Rjmcmc::new(RjmcmcParams::paper(30, init)).resume(
+        &graph,
+        &fitness,
+        &budget,
+        &cp,
+        &mut NoObserver,
+    ));
+    assert!(why.contains("`ga`"), "{why}");
+    // Other parameters.
+    let other = Ga::new(GaParams {
+        elites: 6,
+        ..ga.params
+    });
+    let why = refused(other.resume(&graph, &fitness, &budget, &cp, &mut NoObserver));
+    assert!(why.contains("parameters"), "{why}");
+    // Another seed.
+    let why = refused(ga.run_from(&graph, &fitness, &budget, 8, Some(&cp), &mut NoObserver));
+    assert!(why.contains("seed"), "{why}");
+    // Another graph: the stored chromosomes do not belong to it.
+    let other_graph = GraphBuilder::new("other")
+        .start("S")
+        .node("S", |n| n.slot("a", "S", 0.5))
+        .build()
+        .unwrap();
+    let why = refused(ga.resume(&other_graph, &fitness, &budget, &cp, &mut NoObserver));
+    assert!(why.contains("chromosome"), "{why}");
+    // A tampered chromosome fails validation instead of panicking.
+    let mut bad = cp.clone();
+    let SavedState::Population { individuals } = &mut bad.state else {
+        panic!("a GA checkpoint holds a population")
+    };
+    individuals[0].chromosome.words[1] ^= 0xffff;
+    refused(ga.resume(&graph, &fitness, &budget, &bad, &mut NoObserver));
+    // The untouched checkpoint resumes.
+    let r = ga
+        .resume(&graph, &fitness, &budget, &cp, &mut NoObserver)
+        .unwrap();
+    assert_eq!(r.generations, 4);
+}
