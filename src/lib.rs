@@ -86,6 +86,7 @@ pub use shapegen_macros::generator;
 pub use shapegen_score as score;
 
 pub mod demo;
+pub mod experiment;
 pub mod scenes;
 
 /// The README's code, compiled and run as a doctest so it cannot rot.

@@ -67,6 +67,24 @@ impl ImageTarget {
         Self::new(camera, weights)
     }
 
+    /// A target from a float image in PFM format (the paper's signed float
+    /// images): each pixel's value (the first channel of a colour `PF` file)
+    /// is its weight. The image must have the camera's size; PFM stores rows
+    /// bottom to top, the target keeps row 0 at the top.
+    pub fn from_pfm(path: &Path, camera: Camera) -> Result<Self, ScoreError> {
+        let bytes = std::fs::read(path).map_err(|source| ScoreError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let weights = read_pfm(&bytes, (camera.width, camera.height)).map_err(|reason| {
+            ScoreError::Image {
+                path: path.to_path_buf(),
+                reason,
+            }
+        })?;
+        Self::new(camera, weights)
+    }
+
     /// Pixels with positive weight.
     #[must_use]
     pub fn target_pixels(&self) -> u64 {
@@ -186,5 +204,98 @@ impl ImageScratch {
     #[must_use]
     pub fn covered(&self, i: usize) -> &[bool] {
         &self.covered[i]
+    }
+}
+
+/// Parses a PFM image of `size` into row-major values, row 0 at the top.
+fn read_pfm(bytes: &[u8], size: (u32, u32)) -> Result<Vec<f32>, String> {
+    // Header: three whitespace-separated tokens ("Pf"/"PF", "W H", scale), one byte, data.
+    let mut tokens = Vec::new();
+    let mut at = 0;
+    while tokens.len() < 4 {
+        while at < bytes.len() && bytes[at].is_ascii_whitespace() {
+            at += 1;
+        }
+        let start = at;
+        while at < bytes.len() && !bytes[at].is_ascii_whitespace() {
+            at += 1;
+        }
+        if start == at {
+            return Err("truncated PFM header".into());
+        }
+        tokens.push(String::from_utf8_lossy(&bytes[start..at]).into_owned());
+    }
+    at += 1; // the single whitespace byte before the data
+    let channels = match tokens[0].as_str() {
+        "Pf" => 1,
+        "PF" => 3,
+        other => return Err(format!("not a PFM file (magic `{other}`)")),
+    };
+    let number = |t: &str| {
+        t.parse::<f64>()
+            .map_err(|_| format!("bad PFM header value `{t}`"))
+    };
+    let (w, h, scale) = (
+        number(&tokens[1])?,
+        number(&tokens[2])?,
+        number(&tokens[3])?,
+    );
+    if (w, h) != (f64::from(size.0), f64::from(size.1)) {
+        return Err(format!(
+            "the image is {w}×{h} but the camera renders {}×{}",
+            size.0, size.1
+        ));
+    }
+    if scale == 0.0 || !scale.is_finite() {
+        return Err(format!("bad PFM scale {scale}"));
+    }
+    let (w, h) = (size.0 as usize, size.1 as usize);
+    let data = bytes.get(at.min(bytes.len())..).unwrap_or_default();
+    if data.len() < w * h * channels * 4 {
+        return Err(format!(
+            "{} bytes of pixel data, {} needed",
+            data.len(),
+            w * h * channels * 4
+        ));
+    }
+    let value = |i: usize| {
+        let b: [u8; 4] = data[4 * i..4 * i + 4].try_into().expect("four bytes");
+        if scale < 0.0 {
+            f32::from_le_bytes(b)
+        } else {
+            f32::from_be_bytes(b)
+        }
+    };
+    let mut out = Vec::with_capacity(w * h);
+    for row in (0..h).rev() {
+        out.extend((0..w).map(|c| value((row * w + c) * channels)));
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod pfm_tests {
+    use super::read_pfm;
+
+    #[test]
+    fn reads_grey_and_colour_pfm_bottom_up() {
+        let mut grey = b"Pf\n2 2\n-1.0\n".to_vec();
+        for v in [1.0f32, 2.0, 3.0, 4.0] {
+            grey.extend(v.to_le_bytes());
+        }
+        assert_eq!(read_pfm(&grey, (2, 2)).unwrap(), [3.0, 4.0, 1.0, 2.0]);
+        let mut colour = b"PF 1 1 1.0 ".to_vec();
+        for v in [-0.5f32, 9.0, 9.0] {
+            colour.extend(v.to_be_bytes());
+        }
+        assert_eq!(read_pfm(&colour, (1, 1)).unwrap(), [-0.5]);
+        assert!(read_pfm(&grey, (3, 2)).unwrap_err().contains("camera"));
+        assert!(read_pfm(&grey[..20], (2, 2)).unwrap_err().contains("bytes"));
+        assert!(
+            read_pfm(b"P6 1 1 255 x", (1, 1))
+                .unwrap_err()
+                .contains("magic")
+        );
+        assert!(read_pfm(b"Pf 1", (1, 1)).unwrap_err().contains("truncated"));
     }
 }

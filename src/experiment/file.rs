@@ -1,0 +1,186 @@
+//! The TOML schema of experiment files, as deserialized (before paths,
+//! meshes and images are resolved). Every table refuses unknown keys.
+
+use std::collections::BTreeMap;
+
+use serde::Deserialize;
+use toml::Spanned;
+
+/// A whole experiment file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct ExperimentFile {
+    pub name: Option<String>,
+    pub description: Option<String>,
+    pub generator: Spanned<String>,
+    pub data: Option<Spanned<String>>,
+    pub seed: Option<u64>,
+    pub method: Option<Spanned<String>>,
+    pub optimum: Option<f64>,
+    pub limits: Option<LimitsFile>,
+    pub budget: Option<Spanned<BudgetFile>>,
+    #[serde(default)]
+    pub shapes: BTreeMap<String, ShapeFile>,
+    pub score: Spanned<ScoreFile>,
+    pub volume: Option<Spanned<VolumeFile>>,
+    pub image: Option<Spanned<ImageFile>>,
+    pub ga: Option<Spanned<GaFile>>,
+    pub smc: Option<Spanned<SmcFile>>,
+    pub sosmc: Option<Spanned<SmcFile>>,
+    pub rjmcmc: Option<Spanned<RjmcmcFile>>,
+}
+
+/// `[limits]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct LimitsFile {
+    pub min_len: Option<u32>,
+    pub max_len: Option<u32>,
+    pub max_depth: Option<u32>,
+}
+
+/// `[budget]` and `budget = {..}` of a method.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct BudgetFile {
+    pub seconds: Option<f64>,
+    pub evaluations: Option<u64>,
+    pub generations: Option<u64>,
+}
+
+/// `[shapes.NAME]`: a mesh replacing a generator shape's built-in one.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct ShapeFile {
+    pub mesh: Spanned<String>,
+    #[serde(default)]
+    pub normalize: bool,
+}
+
+/// `[score]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct ScoreFile {
+    pub form: ScoreForm,
+    pub good: Option<f64>,
+    pub bad: Option<f64>,
+    pub length: Option<f64>,
+    pub overlap: Option<f64>,
+    #[serde(rename = "self")]
+    pub self_weight: Option<f64>,
+}
+
+/// `score.form`.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum ScoreForm {
+    Normalized,
+    Paper,
+}
+
+/// `[volume]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct VolumeFile {
+    pub min: [f32; 3],
+    pub max: [f32; 3],
+    pub resolution: [u32; 3],
+    pub targets: Vec<Spanned<VolumeTargetFile>>,
+}
+
+/// `[[volume.targets]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct VolumeTargetFile {
+    pub mesh: Option<Spanned<String>>,
+    pub builtin: Option<Spanned<String>>,
+    pub fill: Option<f64>,
+    pub outside: Option<f64>,
+}
+
+/// `[image]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct ImageFile {
+    pub width: Option<u32>,
+    pub height: Option<u32>,
+    pub targets: Vec<Spanned<ImageTargetFile>>,
+}
+
+/// `[[image.targets]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct ImageTargetFile {
+    pub png: Option<Spanned<String>>,
+    pub pfm: Option<Spanned<String>>,
+    pub target: Option<f32>,
+    pub background: Option<f32>,
+    pub camera: Spanned<CameraFile>,
+}
+
+/// `camera = {..}` of an image target: the paper's orbit camera.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct CameraFile {
+    pub phi: f64,
+    pub theta: f64,
+    pub r: f64,
+    pub look_at: [f64; 3],
+    pub fov: Option<f64>,
+    pub near: Option<f64>,
+    pub far: Option<f64>,
+}
+
+/// `[ga]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct GaFile {
+    pub population: usize,
+    pub elites: usize,
+    pub init_length: u32,
+    pub mutation_rate: f64,
+    pub split: SplitFile,
+    pub tournament: Option<usize>,
+    pub elite_dedup: Option<bool>,
+    pub max_retries: Option<u32>,
+    pub budget: Option<Spanned<BudgetFile>>,
+}
+
+/// `split = { grow, cut, alter }` of the GA.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct SplitFile {
+    pub grow: f64,
+    pub cut: f64,
+    pub alter: f64,
+}
+
+/// `[smc]` and `[sosmc]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct SmcFile {
+    pub particles: usize,
+    pub budget: Option<Spanned<BudgetFile>>,
+}
+
+/// `[rjmcmc]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RjmcmcFile {
+    pub chains: usize,
+    pub init_length: u32,
+    pub jump_probability: Option<f64>,
+    /// `β` factor per step; 1 turns annealing off.
+    pub annealing: Option<f64>,
+    pub delayed_rejection: Option<DelayedRejectionFile>,
+    pub budget: Option<Spanned<BudgetFile>>,
+}
+
+/// `rjmcmc.delayed_rejection`.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum DelayedRejectionFile {
+    Off,
+    Exact,
+    ApproxAlter,
+}

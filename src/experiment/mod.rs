@@ -1,0 +1,379 @@
+//! Experiments: a generator, its targets, a score, limits, methods and a
+//! budget, described in a TOML file and ready to run.
+//!
+//! ```
+//! use shapegen::experiment::{Experiment, Method};
+//! use shapegen::optimize::{Budget, NoObserver};
+//!
+//! let experiment = Experiment::builtin();
+//! let result = experiment
+//!     .run(Method::Ga, &Budget::generations(2), 1, None, &mut NoObserver)
+//!     .unwrap();
+//! assert!(result.best_fitness <= experiment.optimum().unwrap());
+//! ```
+//!
+//! # The file format
+//!
+//! ```toml
+//! name = "spaceship-volume"             # optional; defaults to the file name
+//! description = "Paper Fig. 3 / Fig. 7 left"
+//! generator = "spaceship"   # spaceship | tree_v1 | tree_v2 | space_filling_city | grid_city
+//! data = "../../../shared/data/paper"   # what ${data} means (relative to this file)
+//! seed = 1
+//! method = "ga"             # the method `shapegen run` uses without --method
+//! optimum = 2.0             # the best reachable score, if known (reported beside results)
+//!
+//! [limits]                  # genome limits (default: the generator's own)
+//! min_len = 4
+//! max_len = 100             # exclusive
+//! max_depth = 15
+//!
+//! [budget]                  # whichever comes first; a method's own budget replaces it
+//! seconds = 60
+//! # evaluations = 20000
+//! # generations = 130
+//!
+//! [shapes.leaf]             # replace a generator shape's built-in mesh
+//! mesh = "${data}/leaf.obj"
+//! normalize = true          # scale into the unit box, as the paper's shapes
+//!
+//! [score]
+//! form = "normalized"       # or "paper" (the paper's linear s_vol / s_img)
+//! good = 2.0                # normalized: w_good, w_bad, w_length
+//! bad = 15.0
+//! length = 0.1
+//! # overlap = 1.0           # normalized volume: a separate overlap term w_overlap
+//! # self = 1.0              # paper volume form: w_self per self-overlapping cell
+//!
+//! [volume]                  # a volume scene ...
+//! min = [-5.0, -5.0, -2.0]
+//! max = [5.0, 5.0, 18.0]
+//! resolution = [100, 200, 100]
+//! [[volume.targets]]
+//! mesh = "${data}/spaceship_target.obj"   # or builtin = "ship"
+//! fill = 1.0                # weight of a covered target cell
+//! outside = 0.0             # weight of a model cell outside this target
+//!
+//! # [image]                 # ... or an image scene
+//! # width = 800
+//! # height = 600
+//! # [[image.targets]]
+//! # png = "${data}/tree_target_sketch1.png"  # red 0 = target; or pfm = "weights.pfm"
+//! # target = 1.0            # PNG: weight of target pixels
+//! # background = -1.0       # PNG: weight of the others
+//! # camera = { phi = -1.5708, theta = 0.0, r = 9.4716, look_at = [-0.681, 3.2558, 0.0],
+//! #            fov = 60.0, near = 0.1, far = 100.0 }   # degrees for fov
+//!
+//! [ga]
+//! population = 150
+//! elites = 30
+//! init_length = 50          # initial lengths uniform in [L0/2, 3 L0/2]
+//! mutation_rate = 0.3
+//! split = { grow = 13.5, cut = 13.5, alter = 3.0 }
+//! # tournament = 10, elite_dedup = false, max_retries = 3
+//! budget = { generations = 130 }
+//!
+//! [smc]                     # and [sosmc]
+//! particles = 500
+//!
+//! [rjmcmc]
+//! chains = 70
+//! init_length = 50
+//! # jump_probability = 0.5, annealing = 1.1 (1 = off), delayed_rejection = "off" | "exact" | "approx_alter"
+//! ```
+//!
+//! Relative paths resolve against the file's folder; `${data}` stands for
+//! the data directory: [`LoadOptions::data`] (the CLI's `--data` or the
+//! `SHAPEGEN_DATA` environment variable) if given, else the file's `data`.
+//! A method without a table gets the spaceship presets of the paper. Every
+//! mistake is reported with the file, line, column and key.
+
+mod error;
+mod file;
+mod problem;
+mod resolve;
+
+use std::collections::BTreeMap;
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+
+pub use error::ExperimentError;
+pub use problem::write_atomically;
+
+use crate::genome::{Chromosome, ChromosomeData};
+use crate::graph::Graph;
+use crate::optimize::{Budget, Checkpoint, GaParams, Observer, RjmcmcParams, RunResult, SmcParams};
+use problem::Problem;
+
+/// The embedded default experiment (`experiments/default.toml`): the
+/// spaceship generator toward a ship-shaped volume the project builds itself.
+pub const BUILTIN: &str = include_str!("../../experiments/default.toml");
+
+/// An optimization method.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Method {
+    /// The genetic algorithm (paper Algorithm 1).
+    Ga,
+    /// Sequential Monte Carlo, slots in program order.
+    Smc,
+    /// Stochastically-ordered SMC.
+    Sosmc,
+    /// Reversible-jump MCMC with parallel tempering.
+    Rjmcmc,
+}
+
+impl Method {
+    /// All methods, in the paper's order.
+    pub const ALL: [Method; 4] = [Method::Ga, Method::Smc, Method::Sosmc, Method::Rjmcmc];
+
+    /// The method's name (`ga`, `smc`, `sosmc`, `rjmcmc`).
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            Self::Ga => "ga",
+            Self::Smc => "smc",
+            Self::Sosmc => "sosmc",
+            Self::Rjmcmc => "rjmcmc",
+        }
+    }
+}
+
+impl fmt::Display for Method {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Method {
+    type Err = ExperimentError;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Self::ALL
+            .into_iter()
+            .find(|m| m.name() == s.trim().to_ascii_lowercase())
+            .ok_or_else(|| ExperimentError::UnknownMethod(s.to_string()))
+    }
+}
+
+/// The parameters of one method.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MethodParams {
+    /// GA parameters.
+    Ga(GaParams),
+    /// SMC or SOSMC parameters (the slot order tells which).
+    Smc(SmcParams),
+    /// RJMCMC parameters.
+    Rjmcmc(RjmcmcParams),
+}
+
+/// A method's parameters and its own budget, if the file gives one.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MethodConfig {
+    /// The parameters.
+    pub params: MethodParams,
+    /// The method's budget (replaces the experiment's).
+    pub budget: Option<Budget>,
+}
+
+/// How to load an experiment file.
+#[derive(Clone, Debug, Default)]
+pub struct LoadOptions {
+    /// The data directory `${data}` stands for (overrides the file's `data`).
+    pub data: Option<PathBuf>,
+}
+
+impl LoadOptions {
+    /// Options with the data directory from the `SHAPEGEN_DATA` environment
+    /// variable, if set.
+    #[must_use]
+    pub fn from_env() -> Self {
+        Self {
+            data: std::env::var_os("SHAPEGEN_DATA").map(PathBuf::from),
+        }
+    }
+}
+
+/// A loaded experiment: its problem (generator + scene + score) is built and
+/// its targets are loaded.
+pub struct Experiment {
+    name: String,
+    description: String,
+    generator: String,
+    seed: u64,
+    default_method: Method,
+    optimum: Option<f64>,
+    budget: Option<Budget>,
+    methods: BTreeMap<Method, MethodConfig>,
+    warnings: Vec<String>,
+    problem: Box<dyn Problem>,
+}
+
+impl fmt::Debug for Experiment {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Experiment")
+            .field("name", &self.name)
+            .field("generator", &self.generator)
+            .field("scene", &self.problem.describe())
+            .field("methods", &self.methods)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Experiment {
+    /// Loads an experiment file (see the [module docs](self) for the format).
+    pub fn load(path: &Path, options: &LoadOptions) -> Result<Self, ExperimentError> {
+        let text = std::fs::read_to_string(path).map_err(|source| ExperimentError::Read {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let base = path.parent().unwrap_or(Path::new("."));
+        let stem = path
+            .file_stem()
+            .map_or_else(|| "experiment".into(), |s| s.to_string_lossy().into_owned());
+        Self::from_toml(&text, &path.display().to_string(), base, &stem, options)
+    }
+
+    /// Parses an experiment from TOML `text`; `file` names it in errors,
+    /// relative paths resolve against `base`, `default_name` is used when the
+    /// file has no `name`.
+    pub fn from_toml(
+        text: &str,
+        file: &str,
+        base: &Path,
+        default_name: &str,
+        options: &LoadOptions,
+    ) -> Result<Self, ExperimentError> {
+        resolve::experiment(text, file, base, default_name, options)
+    }
+
+    /// The embedded default experiment ([`BUILTIN`]); needs no files.
+    #[must_use]
+    pub fn builtin() -> Self {
+        Self::from_toml(
+            BUILTIN,
+            "<built-in>",
+            Path::new("."),
+            "default",
+            &LoadOptions::default(),
+        )
+        .expect("the built-in experiment is valid")
+    }
+
+    /// The experiment's name.
+    #[must_use]
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Its description (may be empty).
+    #[must_use]
+    pub fn description(&self) -> &str {
+        &self.description
+    }
+
+    /// The generator's name in the file (`spaceship`, `tree_v2`, ...).
+    #[must_use]
+    pub fn generator(&self) -> &str {
+        &self.generator
+    }
+
+    /// One line about the scene (grid or images, target size).
+    #[must_use]
+    pub fn scene(&self) -> String {
+        self.problem.describe()
+    }
+
+    /// The file's seed.
+    #[must_use]
+    pub fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    /// The method to use when none is asked for.
+    #[must_use]
+    pub fn default_method(&self) -> Method {
+        self.default_method
+    }
+
+    /// The best reachable score, if the file states it.
+    #[must_use]
+    pub fn optimum(&self) -> Option<f64> {
+        self.optimum
+    }
+
+    /// Problems worth telling the user (e.g. a target that is not watertight).
+    #[must_use]
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+
+    /// The generator graph, with the experiment's limits.
+    #[must_use]
+    pub fn graph(&self) -> &Graph {
+        self.problem.graph()
+    }
+
+    /// The configuration of `method` (the paper's spaceship presets if the
+    /// file has no table for it).
+    #[must_use]
+    pub fn method(&self, method: Method) -> MethodConfig {
+        self.methods[&method]
+    }
+
+    /// The budget of `method`: its own, else the experiment's.
+    #[must_use]
+    pub fn budget(&self, method: Method) -> Option<Budget> {
+        self.methods[&method].budget.or(self.budget)
+    }
+
+    /// Runs `method` from the start, or from `resume`, until `budget` is spent.
+    pub fn run(
+        &self,
+        method: Method,
+        budget: &Budget,
+        seed: u64,
+        resume: Option<&Checkpoint>,
+        observer: &mut dyn Observer,
+    ) -> Result<RunResult, ExperimentError> {
+        let config = self.method(method);
+        Ok(self
+            .problem
+            .run(&config.params, budget, seed, resume, observer)?)
+    }
+
+    /// The fitness of `chromosome`.
+    #[must_use]
+    pub fn evaluate(&self, chromosome: &Chromosome) -> f64 {
+        self.problem.evaluate(chromosome)
+    }
+
+    /// Turns stored chromosome data (e.g. a `best.json`) into a chromosome of
+    /// this experiment's generator, refusing anything else; `path` names the
+    /// file in the error.
+    pub fn chromosome(
+        &self,
+        data: &ChromosomeData,
+        path: &Path,
+    ) -> Result<Chromosome, ExperimentError> {
+        Chromosome::from_data(self.graph(), data).map_err(|source| ExperimentError::Chromosome {
+            path: path.to_path_buf(),
+            source,
+        })
+    }
+
+    /// Writes the model of `chromosome` into `dir`: `best.obj`, plus
+    /// `overlay.png` (image targets) or `slice_x/y/z.png` (volume targets).
+    /// Returns the files written.
+    pub fn write_model(
+        &self,
+        chromosome: &Chromosome,
+        dir: &Path,
+    ) -> Result<Vec<PathBuf>, ExperimentError> {
+        std::fs::create_dir_all(dir).map_err(|e| ExperimentError::write(dir, e))?;
+        self.problem.write_model(chromosome, dir)
+    }
+}
+
+#[cfg(test)]
+mod tests;

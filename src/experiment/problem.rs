@@ -1,0 +1,198 @@
+//! One generator scored against one scene, behind an object-safe trait so an
+//! experiment can pick both at run time.
+
+use std::fs;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use super::{ExperimentError, MethodParams};
+use crate::express::{Generator, Instances};
+use crate::genome::Chromosome;
+use crate::graph::Graph;
+use crate::optimize::{
+    Budget, Checkpoint, Fitness, Ga, Observer, OptimizeError, Optimizer, Rjmcmc, RunResult, Smc,
+};
+use crate::score::obj::{ShapeMeshes, write_obj};
+use crate::score::score::{ImageTargets, ModelFitness, Scene};
+use crate::score::volume::VolumeScene;
+
+/// A generator and a scored scene, ready to optimize.
+pub(super) trait Problem: Send + Sync {
+    /// The generator graph with the experiment's limits.
+    fn graph(&self) -> &Graph;
+    /// Runs `method` (from the start, or from `resume`).
+    fn run(
+        &self,
+        method: &MethodParams,
+        budget: &Budget,
+        seed: u64,
+        resume: Option<&Checkpoint>,
+        observer: &mut dyn Observer,
+    ) -> Result<RunResult, OptimizeError>;
+    /// The fitness of one chromosome.
+    fn evaluate(&self, chromosome: &Chromosome) -> f64;
+    /// Writes `best.obj` and the scene's pictures of `chromosome` into `dir`.
+    fn write_model(
+        &self,
+        chromosome: &Chromosome,
+        dir: &Path,
+    ) -> Result<Vec<PathBuf>, ExperimentError>;
+    /// One line about the scene.
+    fn describe(&self) -> String;
+}
+
+/// [`Problem`] for a generator `G` on a scene `S`.
+pub(super) struct ModelProblem<G, S: Scene> {
+    pub graph: Graph,
+    pub generator: G,
+    pub shapes: ShapeMeshes,
+    pub fitness: ModelFitness<G, S>,
+}
+
+/// What a scene writes besides the model's OBJ.
+pub(super) trait SceneOutputs: Scene {
+    /// Pictures of the model held in `scratch` (right after it was counted).
+    fn write_pictures(
+        &self,
+        scratch: &Self::Scratch,
+        dir: &Path,
+    ) -> Result<Vec<PathBuf>, ExperimentError>;
+    /// One line about the scene.
+    fn describe(&self) -> String;
+}
+
+impl SceneOutputs for VolumeScene {
+    fn write_pictures(
+        &self,
+        scratch: &Self::Scratch,
+        dir: &Path,
+    ) -> Result<Vec<PathBuf>, ExperimentError> {
+        let d = self.grid().dims();
+        // Enlarge small grids so a slice is at least ~400 pixels across.
+        let scale = (400 / d.max_element().max(1)).clamp(1, 8);
+        let mut written = Vec::new();
+        for (axis, name) in ["x", "y", "z"].iter().enumerate() {
+            let path = dir.join(format!("slice_{name}.png"));
+            self.write_slice(&path, scratch.hits(), axis, d[axis] / 2, scale)?;
+            written.push(path);
+        }
+        Ok(written)
+    }
+
+    fn describe(&self) -> String {
+        let d = self.grid().dims();
+        format!(
+            "volume grid {}×{}×{} with {} target cells",
+            d.x,
+            d.y,
+            d.z,
+            self.target_cells()
+        )
+    }
+}
+
+impl SceneOutputs for ImageTargets {
+    fn write_pictures(
+        &self,
+        scratch: &Self::Scratch,
+        dir: &Path,
+    ) -> Result<Vec<PathBuf>, ExperimentError> {
+        let mut written = Vec::new();
+        for (i, target) in self.targets().iter().enumerate() {
+            let path = if self.targets().len() == 1 {
+                dir.join("overlay.png")
+            } else {
+                dir.join(format!("overlay_{i}.png"))
+            };
+            target.write_overlay(&path, scratch.covered(i))?;
+            written.push(path);
+        }
+        Ok(written)
+    }
+
+    fn describe(&self) -> String {
+        let t = &self.targets()[0].camera;
+        format!(
+            "{} image target(s) of {}×{} with {} target pixels",
+            self.targets().len(),
+            t.width,
+            t.height,
+            self.target_pixels()
+        )
+    }
+}
+
+impl<G, S> Problem for ModelProblem<G, S>
+where
+    G: Generator + Send,
+    G::State: Send,
+    S: SceneOutputs + Send + Sync,
+    S::Shape: Send + Sync,
+    S::Score: Send + Sync,
+{
+    fn graph(&self) -> &Graph {
+        &self.graph
+    }
+
+    fn run(
+        &self,
+        method: &MethodParams,
+        budget: &Budget,
+        seed: u64,
+        resume: Option<&Checkpoint>,
+        observer: &mut dyn Observer,
+    ) -> Result<RunResult, OptimizeError> {
+        let (g, f) = (&self.graph, &self.fitness);
+        match *method {
+            MethodParams::Ga(p) => Ga::new(p).run_from(g, f, budget, seed, resume, observer),
+            MethodParams::Smc(p) => Smc::new(p).run_from(g, f, budget, seed, resume, observer),
+            MethodParams::Rjmcmc(p) => {
+                Rjmcmc::new(p).run_from(g, f, budget, seed, resume, observer)
+            }
+        }
+    }
+
+    fn evaluate(&self, chromosome: &Chromosome) -> f64 {
+        self.fitness
+            .evaluate(chromosome, &mut self.fitness.scratch())
+    }
+
+    fn write_model(
+        &self,
+        chromosome: &Chromosome,
+        dir: &Path,
+    ) -> Result<Vec<PathBuf>, ExperimentError> {
+        let mut model = Instances::default();
+        self.generator.express(chromosome, &mut model);
+        let mut text = Vec::new();
+        let obj = dir.join("best.obj");
+        write_obj(&mut text, &model.0, &self.shapes)
+            .map_err(|e| ExperimentError::write(&obj, e))?;
+        write_atomically(&obj, &text)?;
+        let mut scratch = self.fitness.scratch();
+        self.fitness.counts(chromosome, &mut scratch);
+        let mut written = vec![obj];
+        written.extend(self.fitness.scene().write_pictures(&scratch.0, dir)?);
+        Ok(written)
+    }
+
+    fn describe(&self) -> String {
+        self.fitness.scene().describe()
+    }
+}
+
+/// Writes a file atomically (a temporary file, then a rename), so an
+/// interrupted run never leaves a truncated result behind.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), ExperimentError> {
+    let tmp = path.with_extension(format!(
+        "{}.tmp",
+        path.extension().and_then(|e| e.to_str()).unwrap_or("")
+    ));
+    let write = || -> std::io::Result<()> {
+        let mut f = fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        fs::rename(&tmp, path)
+    };
+    write().map_err(|e| ExperimentError::write(path, e))
+}

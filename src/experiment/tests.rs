@@ -1,0 +1,121 @@
+//! Loading experiment files: the built-in one, errors with key and line.
+
+use super::*;
+
+fn load(text: &str) -> Result<Experiment, ExperimentError> {
+    Experiment::from_toml(
+        text,
+        "test.toml",
+        Path::new("."),
+        "t",
+        &LoadOptions::default(),
+    )
+}
+
+/// The error's (line, key, message).
+fn invalid(text: &str) -> (usize, String, String) {
+    match load(text).unwrap_err() {
+        ExperimentError::Invalid {
+            line, key, message, ..
+        } => (line, key, message),
+        other => panic!("expected an Invalid error, got {other}"),
+    }
+}
+
+const MINIMAL: &str = r#"
+generator = "spaceship"
+[score]
+form = "normalized"
+[volume]
+min = [-5.0, -5.0, -2.0]
+max = [5.0, 5.0, 18.0]
+resolution = [10, 20, 10]
+[[volume.targets]]
+builtin = "ship"
+"#;
+
+#[test]
+fn the_builtin_experiment_loads() {
+    let e = Experiment::builtin();
+    assert_eq!(e.generator(), "spaceship");
+    assert_eq!(e.default_method(), Method::Ga);
+    assert_eq!(e.optimum(), Some(2.0));
+    assert_eq!(e.graph().limits().max_len, Some(100));
+    assert!(e.budget(Method::Ga).is_some());
+    assert!(e.scene().contains("100×200×100"), "{}", e.scene());
+}
+
+#[test]
+fn a_minimal_file_gets_defaults() {
+    let e = load(MINIMAL).unwrap();
+    assert_eq!(e.name(), "t");
+    assert_eq!(e.seed(), 1);
+    assert_eq!(e.budget(Method::Ga), None);
+    assert!(matches!(e.method(Method::Sosmc).params, MethodParams::Smc(p) if p.particles == 500));
+}
+
+#[test]
+fn errors_name_the_key_and_the_line() {
+    // A wrong type.
+    let (line, key, msg) = invalid(&format!("{MINIMAL}[ga]\npopulation = \"many\"\n"));
+    assert_eq!((line, key.as_str()), (12, "ga.population"), "{msg}");
+    // An unknown key.
+    let (line, key, msg) = invalid(&MINIMAL.replace("builtin = \"ship\"", "biultin = \"ship\""));
+    assert_eq!((line, key.as_str()), (10, "volume.targets[0].biultin"));
+    assert!(msg.contains("unknown field"), "{msg}");
+    // A missing key.
+    let (_, key, msg) = invalid(&MINIMAL.replace("form = \"normalized\"\n", ""));
+    assert_eq!(key, "score");
+    assert!(msg.contains("form"), "{msg}");
+    // Unknown generator, method, built-in target.
+    let (line, key, _) = invalid(&MINIMAL.replace("spaceship", "spaceshp"));
+    assert_eq!((line, key.as_str()), (2, "generator"));
+    let (_, key, _) = invalid(&format!("method = \"gaa\"\n{MINIMAL}"));
+    assert_eq!(key, "method");
+    let (line, key, _) = invalid(&MINIMAL.replace("\"ship\"", "\"boat\""));
+    assert_eq!((line, key.as_str()), (10, "volume.targets[0].builtin"));
+    // A missing file.
+    let (line, key, msg) =
+        invalid(&MINIMAL.replace("builtin = \"ship\"", "mesh = \"nowhere.obj\""));
+    assert_eq!((line, key.as_str()), (10, "volume.targets[0].mesh"));
+    assert!(msg.contains("no such file"), "{msg}");
+    // ${data} without a data directory.
+    let (_, _, msg) = invalid(&MINIMAL.replace("builtin = \"ship\"", "mesh = \"${data}/x.obj\""));
+    assert!(msg.contains("data directory"), "{msg}");
+    // Parameters the GA refuses.
+    let ga = "[ga]\npopulation = 10\nelites = 10\ninit_length = 5\nmutation_rate = 0.3\nsplit = { grow = 1, cut = 1, alter = 1 }\n";
+    let (line, key, msg) = invalid(&format!("{MINIMAL}{ga}"));
+    assert_eq!((line, key.as_str()), (11, "ga"));
+    assert!(msg.contains("elites"), "{msg}");
+    // An empty budget, a bad grid, a syntax error.
+    let (_, key, _) = invalid(&format!("{MINIMAL}[budget]\n"));
+    assert_eq!(key, "budget");
+    let (_, key, _) = invalid(&MINIMAL.replace("[10, 20, 10]", "[0, 20, 10]"));
+    assert_eq!(key, "volume");
+    let (line, key, _) = invalid(&MINIMAL.replace("[score]", "[score"));
+    assert_eq!((line, key.as_str()), (3, ""));
+    // Both scenes.
+    let image = "[image]\n[[image.targets]]\npng = \"x.png\"\ncamera = { phi = 0.0, theta = 0.0, r = 5.0, look_at = [0.0, 0.0, 0.0] }\n";
+    let (_, key, _) = invalid(&format!("{MINIMAL}{image}"));
+    assert_eq!(key, "image");
+}
+
+#[test]
+fn the_error_message_shows_file_line_and_key() {
+    let err = load(&format!("{MINIMAL}[ga]\npopulation = \"many\"\n")).unwrap_err();
+    let text = err.to_string();
+    assert!(
+        text.starts_with("test.toml:12:14: `ga.population`: "),
+        "{text}"
+    );
+}
+
+#[test]
+fn methods_parse_by_name() {
+    assert_eq!("SOSMC".parse::<Method>().unwrap(), Method::Sosmc);
+    assert!("annealing".parse::<Method>().is_err());
+    assert_eq!(
+        Method::ALL.map(Method::name),
+        ["ga", "smc", "sosmc", "rjmcmc"]
+    );
+}
