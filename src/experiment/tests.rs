@@ -119,3 +119,36 @@ fn methods_parse_by_name() {
         ["ga", "smc", "sosmc", "rjmcmc"]
     );
 }
+
+#[test]
+fn the_paper_experiments_load() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/paper");
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/paper");
+    if !data.is_dir() {
+        eprintln!("skipped: no paper data at {}", data.display());
+        return;
+    }
+    let mut names = Vec::new();
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        let e =
+            Experiment::load(&path, &LoadOptions::default()).unwrap_or_else(|err| panic!("{err}"));
+        for m in Method::ALL {
+            assert!(e.budget(m).is_some(), "{}: {m} has a budget", e.name());
+        }
+        assert!(e.optimum().is_some());
+        names.push(e.name().to_string());
+    }
+    names.sort();
+    assert_eq!(
+        names,
+        [
+            "city_skyline_shoe",
+            "city_skyline_whale",
+            "city_volume_castle",
+            "spaceship_volume",
+            "tree_avoid",
+            "tree_sketch"
+        ]
+    );
+}

@@ -1,0 +1,125 @@
+//! Command-line arguments.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand};
+use shapegen::experiment::Method;
+
+/// Evolves procedural models toward targets (ShapeGenetics: a genetic
+/// algorithm over derivation trees, with SMC, SOSMC and RJMCMC baselines).
+///
+/// Without a command, runs the built-in experiment (`shapegen run`).
+#[derive(Debug, Parser)]
+#[command(version, about, long_about = None)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+/// The commands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// One optimization run; writes best.obj, best.json, pictures, curve.csv, summary.json.
+    Run(RunArgs),
+    /// Every method several times with equal wall-clock budgets; writes curves.csv, curves.png, summary.json.
+    Compare(CompareArgs),
+    /// Re-expresses a saved chromosome (best.json) and writes its model and pictures.
+    Render(RenderArgs),
+}
+
+/// Where the experiment comes from.
+#[derive(Debug, Args)]
+pub struct ExperimentArgs {
+    /// Experiment file (TOML); the built-in experiment if omitted.
+    pub experiment: Option<PathBuf>,
+    /// Data directory that `${data}` in the experiment stands for [env: SHAPEGEN_DATA].
+    #[arg(long)]
+    pub data: Option<PathBuf>,
+}
+
+/// `shapegen run`.
+#[derive(Debug, Args)]
+pub struct RunArgs {
+    #[command(flatten)]
+    pub experiment: ExperimentArgs,
+    /// Method (ga, smc, sosmc, rjmcmc); default: the experiment's.
+    #[arg(long, value_parser = parse_method)]
+    pub method: Option<Method>,
+    /// Wall-clock budget in seconds (replaces the experiment's budget).
+    #[arg(long)]
+    pub seconds: Option<f64>,
+    /// Budget in generations (replaces the experiment's budget).
+    #[arg(long)]
+    pub generations: Option<u64>,
+    /// Random seed; default: the experiment's. The same seed gives the same result on any number of threads.
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Output directory.
+    #[arg(long, default_value = "out")]
+    pub out: PathBuf,
+    /// Write a checkpoint to this file (atomically) every --every generations and on Ctrl-C.
+    #[arg(long)]
+    pub checkpoint: Option<PathBuf>,
+    /// Generations between checkpoints.
+    #[arg(long, default_value_t = 10, requires = "checkpoint")]
+    pub every: u64,
+    /// Resume the run saved in this checkpoint (same experiment; method and seed come from it).
+    #[arg(long)]
+    pub resume: Option<PathBuf>,
+    /// No progress bar or progress lines.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// `shapegen compare`.
+#[derive(Debug, Args)]
+pub struct CompareArgs {
+    #[command(flatten)]
+    pub experiment: ExperimentArgs,
+    /// Methods to compare, comma-separated.
+    #[arg(long, value_delimiter = ',', value_parser = parse_method, default_value = "ga,smc,sosmc,rjmcmc")]
+    pub methods: Vec<Method>,
+    /// Runs per method (seeds seed, seed + 1, ...).
+    #[arg(long, default_value_t = 3)]
+    pub runs: u64,
+    /// Wall-clock budget of every run, in seconds.
+    #[arg(long, default_value_t = 30.0)]
+    pub seconds: f64,
+    /// First seed; default: the experiment's.
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Output directory.
+    #[arg(long, default_value = "compare")]
+    pub out: PathBuf,
+    /// No progress lines.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// `shapegen render`.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// A chromosome file written by `shapegen run` (best.json).
+    pub chromosome: PathBuf,
+    /// The experiment it was evolved in (default: the built-in one).
+    #[arg(long)]
+    pub experiment: Option<PathBuf>,
+    /// Data directory that `${data}` in the experiment stands for [env: SHAPEGEN_DATA].
+    #[arg(long)]
+    pub data: Option<PathBuf>,
+    /// Output directory.
+    #[arg(long, default_value = "render")]
+    pub out: PathBuf,
+}
+
+fn parse_method(s: &str) -> Result<Method, String> {
+    s.parse()
+        .map_err(|e: shapegen::experiment::ExperimentError| e.to_string())
+}

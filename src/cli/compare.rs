@@ -1,0 +1,382 @@
+//! `shapegen compare`: every method several times with the same wall-clock
+//! budget, summarized like the paper's figures 7 and 9.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::ops::ControlFlow;
+use std::time::Duration;
+
+use serde::Serialize;
+use shapegen::experiment::{Method, write_atomically};
+use shapegen::optimize::{Budget, GenerationStats, RunResult};
+
+use super::args::CompareArgs;
+use super::curve::{self, Row};
+use super::plot::{self, Series};
+use super::run::write_json;
+use super::{CliError, interrupted, load_experiment, thread_pool};
+
+/// Points of the common time grid.
+const GRID: usize = 200;
+/// Budget fractions reported in the summary.
+const FRACTIONS: [f64; 4] = [0.1, 0.25, 0.5, 1.0];
+
+/// One finished run.
+struct Run {
+    seed: u64,
+    rows: Vec<Row>,
+    result: RunResult,
+}
+
+/// Per-method statistics of `summary.json`.
+#[derive(Debug, Serialize)]
+pub struct MethodSummary {
+    /// Runs.
+    pub runs: usize,
+    /// Mean of the runs' final best fitness.
+    pub final_mean: f64,
+    /// Their standard deviation.
+    pub final_std: f64,
+    /// Mean best fitness at 10 %, 25 %, 50 % and 100 % of the budget
+    /// (`null` while some run has no valid model yet).
+    pub mean_at: BTreeMap<String, Option<f64>>,
+    /// Standard deviation at the same fractions.
+    pub std_at: BTreeMap<String, Option<f64>>,
+    /// Seconds until this method's mean curve reaches each other method's
+    /// final mean (`null`: never within the budget).
+    pub seconds_to_reach: BTreeMap<String, Option<f64>>,
+    /// Mean evaluations per run.
+    pub evaluations: f64,
+    /// Mean generations per run.
+    pub generations: f64,
+    /// Best fitness over all runs, and the seed of that run.
+    pub best: f64,
+    /// The seed of the best run (its model is in `<method>/`).
+    pub best_seed: u64,
+}
+
+/// `summary.json` of a comparison.
+#[derive(Debug, Serialize)]
+pub struct CompareSummary {
+    /// The experiment.
+    pub experiment: String,
+    /// Seconds per run.
+    pub seconds: f64,
+    /// Runs per method.
+    pub runs: u64,
+    /// Threads.
+    pub threads: usize,
+    /// The experiment's optimum, if known.
+    pub optimum: Option<f64>,
+    /// Per method.
+    pub methods: BTreeMap<String, MethodSummary>,
+}
+
+/// Runs `shapegen compare`.
+pub fn compare(args: &CompareArgs) -> Result<(), CliError> {
+    let experiment = load_experiment(
+        args.experiment.experiment.as_deref(),
+        args.experiment.data.as_deref(),
+    )?;
+    if args.runs == 0 || args.methods.is_empty() {
+        return Err(CliError::msg("give at least one method and one run"));
+    }
+    if !(args.seconds > 0.0 && args.seconds.is_finite()) {
+        return Err(CliError::msg(format!(
+            "--seconds must be > 0, got {}",
+            args.seconds
+        )));
+    }
+    let pool = thread_pool(args.threads)?;
+    let threads = pool.current_num_threads();
+    let budget = Budget::wall_time(Duration::from_secs_f64(args.seconds));
+    let first_seed = args.seed.unwrap_or(experiment.seed());
+    let mut methods: Vec<Method> = Vec::new();
+    for m in &args.methods {
+        if !methods.contains(m) {
+            methods.push(*m);
+        }
+    }
+    eprintln!(
+        "shapegen: comparing {} on `{}` ({}): {} run(s) × {:.0} s each, {threads} thread(s)",
+        methods
+            .iter()
+            .map(|m| m.name())
+            .collect::<Vec<_>>()
+            .join(", "),
+        experiment.name(),
+        experiment.scene(),
+        args.runs,
+        args.seconds
+    );
+    let mut all: BTreeMap<Method, Vec<Run>> = BTreeMap::new();
+    // Runs alternate between methods so slow drifts of the machine hit all alike.
+    'runs: for r in 0..args.runs {
+        for &method in &methods {
+            let seed = first_seed + r;
+            let mut rows = Vec::new();
+            let mut observer = |s: &GenerationStats<'_>| {
+                rows.push(Row::of(s));
+                if interrupted() {
+                    ControlFlow::Break(())
+                } else {
+                    ControlFlow::Continue(())
+                }
+            };
+            let result =
+                pool.install(|| experiment.run(method, &budget, seed, None, &mut observer))?;
+            if !args.quiet {
+                eprintln!(
+                    "  {method:<6} run {} (seed {seed}): best {:.4} after {} generations, {} evaluations",
+                    r + 1,
+                    result.best_fitness,
+                    result.generations,
+                    result.evaluations
+                );
+            }
+            all.entry(method)
+                .or_default()
+                .push(Run { seed, rows, result });
+            if interrupted() {
+                eprintln!("shapegen: interrupted; summarizing the finished runs");
+                break 'runs;
+            }
+        }
+    }
+    let out = &args.out;
+    std::fs::create_dir_all(out)
+        .map_err(|e| CliError::msg(format!("cannot create {}: {e}", out.display())))?;
+    let times: Vec<f64> = (0..=GRID)
+        .map(|k| args.seconds * k as f64 / GRID as f64)
+        .collect();
+    let mut series = Vec::new();
+    let mut curves_csv = String::from("method,seconds,mean_best,std_best,runs\n");
+    let mut finals = BTreeMap::new();
+    for (&method, runs) in &all {
+        let stats: Vec<(f64, f64, usize)> = times.iter().map(|&t| at(runs, t)).collect();
+        for (t, (mean, std, n)) in times.iter().zip(&stats) {
+            let _ = writeln!(
+                curves_csv,
+                "{method},{t:.3},{},{},{n}",
+                curve::number(*mean),
+                curve::number(*std)
+            );
+        }
+        let (final_mean, _) = mean_std(runs.iter().map(|r| r.result.best_fitness));
+        finals.insert(method, final_mean);
+        series.push(Series {
+            name: method.name().to_string(),
+            points: times
+                .iter()
+                .zip(&stats)
+                .filter(|(_, (m, _, n))| m.is_finite() && *n == runs.len())
+                .map(|(&t, &(m, s, _))| (t, m, s))
+                .collect(),
+        });
+    }
+    let mut summary = CompareSummary {
+        experiment: experiment.name().to_string(),
+        seconds: args.seconds,
+        runs: args.runs,
+        threads,
+        optimum: experiment.optimum(),
+        methods: BTreeMap::new(),
+    };
+    for (&method, runs) in &all {
+        let full = |t: f64| {
+            let (m, s, n) = at(runs, t);
+            (n == runs.len()).then_some((m, s))
+        };
+        let mut mean_at = BTreeMap::new();
+        let mut std_at = BTreeMap::new();
+        for f in FRACTIONS {
+            let key = format!("{:.0}%", f * 100.0);
+            let v = if f == 1.0 {
+                Some(mean_std(runs.iter().map(|r| r.result.best_fitness)))
+            } else {
+                full(f * args.seconds)
+            };
+            mean_at.insert(key.clone(), v.map(|v| v.0));
+            std_at.insert(key, v.map(|v| v.1));
+        }
+        let mut seconds_to_reach = BTreeMap::new();
+        for (&other, &goal) in &finals {
+            if other == method {
+                continue;
+            }
+            let reached = times
+                .iter()
+                .find(|&&t| full(t).is_some_and(|(m, _)| m >= goal))
+                .copied()
+                // The last grid point is the budget; a run's end counts too.
+                .or_else(|| (finals[&method] >= goal).then_some(args.seconds));
+            seconds_to_reach.insert(other.name().to_string(), reached);
+        }
+        let best_run = runs
+            .iter()
+            .max_by(|a, b| a.result.best_fitness.total_cmp(&b.result.best_fitness))
+            .expect("at least one run");
+        let n = runs.len() as f64;
+        let (final_mean, final_std) = mean_std(runs.iter().map(|r| r.result.best_fitness));
+        summary.methods.insert(
+            method.name().to_string(),
+            MethodSummary {
+                runs: runs.len(),
+                final_mean,
+                final_std,
+                mean_at,
+                std_at,
+                seconds_to_reach,
+                evaluations: runs
+                    .iter()
+                    .map(|r| r.result.evaluations as f64)
+                    .sum::<f64>()
+                    / n,
+                generations: runs
+                    .iter()
+                    .map(|r| r.result.generations as f64)
+                    .sum::<f64>()
+                    / n,
+                best: best_run.result.best_fitness,
+                best_seed: best_run.seed,
+            },
+        );
+        let dir = out.join(method.name());
+        experiment.write_model(&best_run.result.best, &dir)?;
+        write_json(
+            &dir.join("best.json"),
+            &best_run.result.best.to_data(experiment.graph()),
+        )?;
+    }
+    let mut runs_csv = String::from("method,run,seed,generation,seconds,evaluations,best,mean\n");
+    for (method, runs) in &all {
+        for (i, run) in runs.iter().enumerate() {
+            for r in &run.rows {
+                let _ = writeln!(
+                    runs_csv,
+                    "{method},{i},{},{},{:.6},{},{},{}",
+                    run.seed,
+                    r.generation,
+                    r.seconds,
+                    r.evaluations,
+                    curve::number(r.best),
+                    curve::number(r.mean)
+                );
+            }
+        }
+    }
+    write_atomically(&out.join("curves.csv"), curves_csv.as_bytes())?;
+    write_atomically(&out.join("runs.csv"), runs_csv.as_bytes())?;
+    write_json(&out.join("summary.json"), &summary)?;
+    let title = format!(
+        "{}: mean best fitness ± std over {} run(s), {threads} thread(s)",
+        experiment.name(),
+        args.runs
+    );
+    if let Some(warning) = plot::curves(
+        &out.join("curves.png"),
+        &title,
+        args.seconds,
+        experiment.optimum(),
+        &series,
+    )? {
+        eprintln!("shapegen: warning: {warning}");
+    }
+    println!(
+        "{:<8} {:>12} {:>12} {:>12} {:>12}",
+        "method", "10%", "50%", "100%", "evaluations"
+    );
+    for (name, m) in &summary.methods {
+        let cell = |k: &str| match (m.mean_at[k], m.std_at[k]) {
+            (Some(a), Some(b)) => format!("{a:.3}±{b:.3}"),
+            _ => "-".to_string(),
+        };
+        println!(
+            "{name:<8} {:>12} {:>12} {:>12} {:>12.0}",
+            cell("10%"),
+            cell("50%"),
+            cell("100%"),
+            m.evaluations
+        );
+    }
+    println!(
+        "wrote {0}/curves.csv, {0}/runs.csv, {0}/summary.json, {0}/curves.png and each method's best model in {0}/<method>/",
+        out.display()
+    );
+    Ok(())
+}
+
+/// Mean, standard deviation and count of the runs' best-so-far at time `t`
+/// (runs without a valid model by then do not count).
+fn at(runs: &[Run], t: f64) -> (f64, f64, usize) {
+    let values: Vec<f64> = runs
+        .iter()
+        .filter_map(|r| {
+            r.rows
+                .iter()
+                .take_while(|row| row.seconds <= t)
+                .last()
+                .map(|row| row.best)
+                .filter(|b| b.is_finite())
+        })
+        .collect();
+    let (m, s) = mean_std(values.iter().copied());
+    (m, s, values.len())
+}
+
+/// Mean and (population) standard deviation; NaN for no values.
+fn mean_std(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let v: Vec<f64> = values.filter(|x| x.is_finite()).collect();
+    if v.is_empty() {
+        return (f64::NAN, f64::NAN);
+    }
+    let n = v.len() as f64;
+    let mean = v.iter().sum::<f64>() / n;
+    let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n;
+    (mean, var.sqrt())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(seconds: f64, best: f64) -> Row {
+        Row {
+            generation: 0,
+            seconds,
+            evaluations: 0,
+            best,
+            mean: best,
+            std: 0.0,
+        }
+    }
+
+    #[test]
+    fn curves_take_the_last_row_at_or_before_t() {
+        let run = |rows: Vec<Row>| Run {
+            seed: 0,
+            rows,
+            result: RunResult {
+                best: shapegen::genome::Chromosome::root(
+                    &shapegen::demo::blocks_graph(),
+                    &mut shapegen::rng::stream(0, &[]),
+                ),
+                best_fitness: 0.0,
+                evaluations: 0,
+                generations: 0,
+                elapsed: Duration::ZERO,
+                stop: shapegen::optimize::StopReason::WallTime,
+                population: Vec::new(),
+            },
+        };
+        let runs = [
+            run(vec![row(0.5, f64::NAN), row(1.0, 1.0), row(2.0, 3.0)]),
+            run(vec![row(0.2, 2.0), row(1.5, 5.0)]),
+        ];
+        assert_eq!(at(&runs, 0.1).2, 0);
+        assert_eq!(at(&runs, 0.6), (2.0, 0.0, 1));
+        assert_eq!(at(&runs, 1.0), (1.5, 0.5, 2));
+        assert_eq!(at(&runs, 9.0), (4.0, 1.0, 2));
+        assert!(mean_std(std::iter::empty()).0.is_nan());
+    }
+}

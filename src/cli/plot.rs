@@ -1,0 +1,196 @@
+//! `curves.png`: mean best fitness over time with a std band per method.
+
+use std::path::Path;
+use std::sync::OnceLock;
+
+use plotters::prelude::*;
+use plotters::style::{FontStyle, register_font};
+
+use super::CliError;
+
+/// One method's mean curve: `(seconds, mean, std)` points.
+pub struct Series {
+    /// Legend name.
+    pub name: String,
+    /// The points, by increasing time.
+    pub points: Vec<(f64, f64, f64)>,
+}
+
+/// Where a TrueType font is looked for (first found wins); `SHAPEGEN_FONT` first.
+const FONTS: [&str; 6] = [
+    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
+    "/usr/share/fonts/TTF/DejaVuSans.ttf",
+    "/usr/share/fonts/dejavu/DejaVuSans.ttf",
+    "/usr/share/fonts/truetype/liberation/LiberationSans-Regular.ttf",
+    "/Library/Fonts/Arial.ttf",
+    "C:\\Windows\\Fonts\\arial.ttf",
+];
+
+/// Registers a system font for the plot's text once; false if none is found.
+fn font() -> bool {
+    static FOUND: OnceLock<bool> = OnceLock::new();
+    *FOUND.get_or_init(|| {
+        let env = std::env::var("SHAPEGEN_FONT").ok();
+        env.iter()
+            .map(String::as_str)
+            .chain(FONTS)
+            .filter_map(|p| std::fs::read(p).ok())
+            .any(|bytes| {
+                register_font(
+                    "sans-serif",
+                    FontStyle::Normal,
+                    Box::leak(bytes.into_boxed_slice()),
+                )
+                .is_ok()
+            })
+    })
+}
+
+const COLOURS: [RGBColor; 6] = [
+    RGBColor(214, 39, 40),
+    RGBColor(31, 119, 180),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+];
+
+/// Draws the curves into a PNG. Returns a warning if no font was found (the
+/// plot then has no text).
+pub fn curves(
+    path: &Path,
+    title: &str,
+    seconds: f64,
+    optimum: Option<f64>,
+    series: &[Series],
+) -> Result<Option<String>, CliError> {
+    let text = font();
+    draw(path, title, seconds, optimum, series, text)
+        .map_err(|e| CliError::msg(format!("cannot draw {}: {e}", path.display())))?;
+    Ok((!text).then(|| {
+        format!(
+            "no TrueType font found (set SHAPEGEN_FONT): {} has no text",
+            path.display()
+        )
+    }))
+}
+
+fn draw(
+    path: &Path,
+    title: &str,
+    seconds: f64,
+    optimum: Option<f64>,
+    series: &[Series],
+    text: bool,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for s in series {
+        for &(_, m, d) in &s.points {
+            lo = lo.min(m - d);
+            hi = hi.max(m + d);
+        }
+    }
+    if let Some(o) = optimum {
+        hi = hi.max(o);
+    }
+    if !(lo.is_finite() && hi.is_finite()) {
+        (lo, hi) = (0.0, 1.0);
+    }
+    let pad = ((hi - lo) * 0.05).max(1e-3);
+    let root = BitMapBackend::new(path, (1000, 620)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let mut builder = ChartBuilder::on(&root);
+    builder.margin(14);
+    if text {
+        builder
+            .caption(title, ("sans-serif", 20))
+            .x_label_area_size(44)
+            .y_label_area_size(64);
+    }
+    let mut chart = builder.build_cartesian_2d(0f64..seconds, (lo - pad)..(hi + pad))?;
+    if text {
+        chart
+            .configure_mesh()
+            .x_desc("wall-clock seconds")
+            .y_desc("best fitness so far")
+            .light_line_style(WHITE.mix(0.0))
+            .draw()?;
+    } else {
+        chart.configure_mesh().disable_axes().draw()?;
+    }
+    if let Some(o) = optimum {
+        let line = chart.draw_series(LineSeries::new(
+            [(0.0, o), (seconds, o)],
+            BLACK.mix(0.4).stroke_width(1),
+        ))?;
+        if text {
+            line.label(format!("optimum {o}"))
+                .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], BLACK.mix(0.4)));
+        }
+    }
+    for (i, s) in series.iter().enumerate() {
+        let colour = COLOURS[i % COLOURS.len()];
+        if s.points.is_empty() {
+            continue;
+        }
+        let band: Vec<(f64, f64)> = s
+            .points
+            .iter()
+            .map(|&(t, m, d)| (t, m + d))
+            .chain(s.points.iter().rev().map(|&(t, m, d)| (t, m - d)))
+            .collect();
+        chart.draw_series(std::iter::once(Polygon::new(
+            band,
+            colour.mix(0.18).filled(),
+        )))?;
+        let line = chart.draw_series(LineSeries::new(
+            s.points.iter().map(|&(t, m, _)| (t, m)),
+            colour.stroke_width(2),
+        ))?;
+        if text {
+            line.label(s.name.clone()).legend(move |(x, y)| {
+                PathElement::new([(x, y), (x + 20, y)], colour.stroke_width(2))
+            });
+        }
+    }
+    if text {
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::LowerRight)
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK.mix(0.3))
+            .draw()?;
+    }
+    root.present()?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn draws_with_and_without_text() {
+        let dir = std::env::temp_dir().join(format!("shapegen-plot-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let series = [
+            Series {
+                name: "ga".into(),
+                points: vec![(0.0, 0.1, 0.05), (1.0, 0.5, 0.1), (2.0, 0.9, 0.02)],
+            },
+            Series {
+                name: "smc".into(),
+                points: Vec::new(),
+            },
+        ];
+        for text in [false, font()] {
+            let path = dir.join(format!("curves-{text}.png"));
+            draw(&path, "test", 2.0, Some(1.0), &series, text).unwrap();
+            let img = image::open(&path).unwrap().to_rgb8();
+            assert_eq!(img.dimensions(), (1000, 620));
+            // The GA's red line is drawn.
+            assert!(img.pixels().any(|p| p.0 == [214, 39, 40]));
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
