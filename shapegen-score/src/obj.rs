@@ -52,6 +52,18 @@ impl ShapeMeshes {
         Ok(())
     }
 
+    /// Number of shapes.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.meshes.len()
+    }
+
+    /// Whether there are no shapes.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.meshes.is_empty()
+    }
+
     /// The mesh of shape `id`.
     #[must_use]
     pub fn mesh(&self, id: u16) -> &Mesh {

@@ -143,7 +143,7 @@ pub fn run(args: &RunArgs) -> Result<(), CliError> {
         watcher.update(s);
         let stop = interrupted();
         if let Some(path) = &args.checkpoint
-            && (stop || s.generation % args.every.max(1) == 0)
+            && (stop || s.generation.is_multiple_of(args.every.max(1)))
         {
             let saved = SavedRun {
                 experiment: experiment.name().to_string(),

@@ -47,7 +47,7 @@ pub enum ExperimentError {
         /// The file.
         path: PathBuf,
         /// Why.
-        source: GenomeError,
+        source: Box<GenomeError>,
     },
     /// Writing an output failed.
     #[error("cannot write {}: {reason}", path.display())]

@@ -358,7 +358,7 @@ impl Experiment {
     ) -> Result<Chromosome, ExperimentError> {
         Chromosome::from_data(self.graph(), data).map_err(|source| ExperimentError::Chromosome {
             path: path.to_path_buf(),
-            source,
+            source: Box::new(source),
         })
     }
 

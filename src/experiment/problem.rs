@@ -6,8 +6,9 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use super::{ExperimentError, MethodParams};
-use crate::express::{Generator, Instances};
+use crate::express::{Generator, Instance, Instances, ShapeId};
 use crate::genome::Chromosome;
+use crate::glam::Affine3A;
 use crate::graph::Graph;
 use crate::optimize::{
     Budget, Checkpoint, Fitness, Ga, Observer, OptimizeError, Optimizer, Rjmcmc, RunResult, Smc,
@@ -47,6 +48,8 @@ pub(super) struct ModelProblem<G, S: Scene> {
     pub generator: G,
     pub shapes: ShapeMeshes,
     pub fitness: ModelFitness<G, S>,
+    /// Target meshes written as `target.obj` (volume scenes).
+    pub target_meshes: Option<ShapeMeshes>,
 }
 
 /// What a scene writes besides the model's OBJ.
@@ -172,6 +175,20 @@ where
         let mut scratch = self.fitness.scratch();
         self.fitness.counts(chromosome, &mut scratch);
         let mut written = vec![obj];
+        if let Some(targets) = &self.target_meshes {
+            let instances: Vec<Instance> = (0..targets.len())
+                .map(|i| Instance {
+                    shape: i as ShapeId,
+                    transform: Affine3A::IDENTITY,
+                })
+                .collect();
+            let path = dir.join("target.obj");
+            let mut text = Vec::new();
+            write_obj(&mut text, &instances, targets)
+                .map_err(|e| ExperimentError::write(&path, e))?;
+            write_atomically(&path, &text)?;
+            written.push(path);
+        }
         written.extend(self.fitness.scene().write_pictures(&scratch.0, dir)?);
         Ok(written)
     }

@@ -333,7 +333,7 @@ where
     .map_err(score_err)?;
     match (&f.volume, &f.image) {
         (Some(v), None) => {
-            let (scene, warnings) = volume_scene(ctx, v)?;
+            let (scene, targets, warnings) = volume_scene(ctx, v)?;
             let score = match score.form {
                 ScoreForm::Normalized => VolumeScore::Normalized {
                     w_good: score.good.unwrap_or(1.0),
@@ -349,11 +349,16 @@ where
             let fitness = ModelFitness::new(generator, scene, &shapes, score)
                 .map_err(|e| ctx.err("shapes", &f.generator, e.to_string()))?
                 .with_limits(limits);
+            let names = (0..targets.len())
+                .map(|i| format!("target_{i}").into())
+                .collect();
+            let meshes = targets.into_iter().map(|t| t.mesh).collect();
             let problem = ModelProblem {
                 graph,
                 generator,
                 shapes,
                 fitness,
+                target_meshes: Some(ShapeMeshes::new(names, meshes)?),
             };
             Ok((Box::new(problem), warnings))
         }
@@ -380,6 +385,7 @@ where
                 generator,
                 shapes,
                 fitness,
+                target_meshes: None,
             };
             Ok((Box::new(problem), Vec::new()))
         }
@@ -436,7 +442,7 @@ fn shapes<G: Generator>(
 fn volume_scene(
     ctx: &Ctx<'_>,
     v: &Spanned<VolumeFile>,
-) -> Result<(VolumeScene, Vec<String>), ExperimentError> {
+) -> Result<(VolumeScene, Vec<VolumeTarget>, Vec<String>), ExperimentError> {
     let vf = v.get_ref();
     let grid = Grid::new(
         Vec3::from_array(vf.min),
@@ -491,7 +497,7 @@ fn volume_scene(
     let scene = VolumeScene::new(grid, &targets)
         .map_err(|e| ctx.err("volume.targets", v, e.to_string()))?;
     let warnings = scene.warnings().to_vec();
-    Ok((scene, warnings))
+    Ok((scene, targets, warnings))
 }
 
 fn image_scene(ctx: &Ctx<'_>, i: &Spanned<ImageFile>) -> Result<ImageTargets, ExperimentError> {

@@ -53,6 +53,21 @@ impl Chromosome {
     /// Rebuilds a chromosome from its serialized form, refusing data made for
     /// another graph or breaking any invariant.
     pub fn from_data(graph: &Graph, data: &ChromosomeData) -> Result<Self, GenomeError> {
+        Self::from_data_with(graph, data, false)
+    }
+
+    /// Like [`from_data`](Self::from_data) for a chromosome still being
+    /// built (e.g. an SMC particle): it may be shorter than the graph's
+    /// `L_min`; every other invariant is checked.
+    pub fn from_partial_data(graph: &Graph, data: &ChromosomeData) -> Result<Self, GenomeError> {
+        Self::from_data_with(graph, data, true)
+    }
+
+    fn from_data_with(
+        graph: &Graph,
+        data: &ChromosomeData,
+        partial: bool,
+    ) -> Result<Self, GenomeError> {
         if data.version != FORMAT_VERSION {
             return Err(GenomeError::Version(data.version));
         }
@@ -65,7 +80,7 @@ impl Chromosome {
                 expected_fp,
             });
         }
-        let index = validate_words(graph, &data.words)?;
+        let index = validate_words(graph, &data.words, partial)?;
         let genes = index.len();
         if genes != data.genes {
             return Err(GenomeError::Count {

@@ -149,7 +149,7 @@ impl Chromosome {
     /// Because every non-root gene's parent precedes it and links are mutual,
     /// the genes form one tree rooted at position 0: no cycles, nothing unreachable.
     pub fn validate(&self, graph: &Graph) -> Result<(), GenomeError> {
-        let starts = validate_words(graph, &self.words)?;
+        let starts = validate_words(graph, &self.words, false)?;
         if starts != self.index {
             return Err(GenomeError::Count {
                 stored: self.len(),
@@ -160,8 +160,13 @@ impl Chromosome {
     }
 }
 
-/// Validates a raw buffer; on success it returns the gene positions.
-pub(crate) fn validate_words(graph: &Graph, words: &[u32]) -> Result<Vec<u32>, GenomeError> {
+/// Validates a raw buffer; on success it returns the gene positions. A
+/// `partial` chromosome (still being built) may be shorter than `L_min`.
+pub(crate) fn validate_words(
+    graph: &Graph,
+    words: &[u32],
+    partial: bool,
+) -> Result<Vec<u32>, GenomeError> {
     if words.is_empty() {
         return Err(GenomeError::Empty);
     }
@@ -281,7 +286,13 @@ pub(crate) fn validate_words(graph: &Graph, words: &[u32]) -> Result<Vec<u32>, G
             }
         }
     }
-    if !limits.allows_len(starts.len() as u32) {
+    let len = starts.len() as u32;
+    let allowed = if partial {
+        limits.max_len.is_none_or(|m| len < m)
+    } else {
+        limits.allows_len(len)
+    };
+    if !allowed {
         return Err(GenomeError::Length {
             len: starts.len(),
             min: limits.min_len,

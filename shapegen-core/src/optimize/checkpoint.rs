@@ -109,8 +109,22 @@ impl SavedIndividual {
 
     /// Restores the individual, checking the chromosome against `graph`.
     pub fn restore(&self, graph: &Graph) -> Result<Individual, OptimizeError> {
-        let chromosome = Chromosome::from_data(graph, &self.chromosome)
-            .map_err(|e| OptimizeError::Checkpoint(format!("a stored chromosome: {e}")))?;
+        self.restore_with(graph, false)
+    }
+
+    /// [`restore`](Self::restore) of a chromosome still being built (an SMC
+    /// particle), which may be shorter than the graph's `L_min`.
+    pub fn restore_partial(&self, graph: &Graph) -> Result<Individual, OptimizeError> {
+        self.restore_with(graph, true)
+    }
+
+    fn restore_with(&self, graph: &Graph, partial: bool) -> Result<Individual, OptimizeError> {
+        let chromosome = if partial {
+            Chromosome::from_partial_data(graph, &self.chromosome)
+        } else {
+            Chromosome::from_data(graph, &self.chromosome)
+        }
+        .map_err(|e| OptimizeError::Checkpoint(format!("a stored chromosome: {e}")))?;
         Ok(Individual {
             chromosome,
             fitness: f64::from_bits(self.fitness_bits),

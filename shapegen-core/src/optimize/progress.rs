@@ -110,7 +110,8 @@ impl<'o> Progress<'o> {
         self.generation = checkpoint.generation;
         self.evaluations = checkpoint.evaluations;
         self.offset = checkpoint.elapsed;
-        self.best = Some(checkpoint.best.restore(self.id.graph)?);
+        // SMC's best so far may be an unfinished particle (short, failed).
+        self.best = Some(checkpoint.best.restore_partial(self.id.graph)?);
         Ok(&checkpoint.state)
     }
 

@@ -167,7 +167,7 @@ impl Particle {
         let Individual {
             chromosome,
             fitness,
-        } = saved.individual.restore(graph)?;
+        } = saved.individual.restore_partial(graph)?;
         // Every open slot must be an empty slot of a gene of the chromosome.
         for &(pos, slot, _) in &saved.open {
             let gene = chromosome
