@@ -84,7 +84,7 @@ fn spaceship_fitness() -> Option<VolumeFitness<Spaceship>> {
 /// paper's trunk and `leaf.obj`, the sketch seen from the reference camera,
 /// normalized score 1 / 1 / 0.01.
 #[allow(clippy::approx_constant)] // −1.57080 is the paper config's value, not −π/2.
-fn tree_sketch_fitness() -> Option<ImageFitness<TreeV2>> {
+fn tree_sketch_fitness(leaf: &str) -> Option<ImageFitness<TreeV2>> {
     let camera = Camera::orbit(
         -1.57080,
         0.0,
@@ -100,10 +100,7 @@ fn tree_sketch_fitness() -> Option<ImageFitness<TreeV2>> {
         ImageTarget::from_png(&data("paper/tree_target_sketch1.png")?, camera, 1.0, -1.0).ok()?;
     let mut shapes = ShapeMeshes::builtin(&TreeV2).ok()?;
     shapes
-        .set(
-            "leaf",
-            Mesh::load_obj(&data("paper/leaf.obj")?).ok()?.normalized(),
-        )
+        .set("leaf", Mesh::load_obj(&data(leaf)?).ok()?.normalized())
         .ok()?;
     let score = ImageScore::Normalized {
         w_good: 1.0,
@@ -159,7 +156,17 @@ fn bench_score(c: &mut Criterion) {
         group.finish();
     }
 
-    if let Some(fitness) = tree_sketch_fitness() {
+    // The paper's leaf (574 triangles), and its low-poly leaf (74) for scale.
+    for (name, leaf) in [
+        ("evaluate_50_trees_1_thread", "paper/leaf.obj"),
+        (
+            "evaluate_50_trees_low_poly_leaf_1_thread",
+            "paper/leaf_low_poly.obj",
+        ),
+    ] {
+        let Some(fitness) = tree_sketch_fitness(leaf) else {
+            continue;
+        };
         let mut rng = stream(4, &[]);
         let trees: Vec<Chromosome> = (0..50)
             .map(|_| {
@@ -170,7 +177,7 @@ fn bench_score(c: &mut Criterion) {
         let mut group = c.benchmark_group("score/tree_sketch");
         group.throughput(Throughput::Elements(trees.len() as u64));
         let mut scratch = fitness.scratch();
-        group.bench_function("evaluate_50_trees_1_thread", |b| {
+        group.bench_function(name, |b| {
             b.iter(|| {
                 trees
                     .iter()

@@ -7,7 +7,7 @@ use glam::Affine3A;
 
 use crate::camera::Camera;
 use crate::error::ScoreError;
-use crate::raster::{RasterShape, Rasterizer};
+use crate::raster::{PixelSpan, RasterShape, Rasterizer};
 
 /// One image target: a signed weight per pixel, seen through `camera`.
 /// Positive weights attract the silhouette, negative repel, zero is "don't care".
@@ -127,13 +127,75 @@ pub struct ImageCounts {
 }
 
 /// Per-thread working memory: a coverage mask per target (all clear between
-/// evaluations), the runs to reset, and the rasterizer.
+/// evaluations), the extent of the covered part of each row, and the rasterizer.
+///
+/// Spans only set mask bytes and widen their row's extent; the counts are
+/// taken once per model over the extents, and only they are cleared for the
+/// next model, so an evaluation costs what the model covers.
 #[derive(Clone, Debug)]
 pub struct ImageScratch {
-    covered: Vec<Vec<bool>>,
-    touched: Vec<Vec<(u32, u32)>>,
+    masks: Vec<Mask>,
     rasterizer: Rasterizer,
-    counts: ImageCounts,
+}
+
+/// The coverage of one target.
+#[derive(Clone, Debug)]
+struct Mask {
+    covered: Vec<bool>,
+    /// Per row, the covered columns lie in `extent.0..extent.1` (empty: `(u32::MAX, 0)`).
+    extent: Vec<(u32, u32)>,
+    /// Rows with a non-empty extent.
+    rows: Vec<u32>,
+    width: u32,
+}
+
+impl Mask {
+    fn new(width: u32, height: u32) -> Self {
+        Self {
+            covered: vec![false; (width * height) as usize],
+            extent: vec![(u32::MAX, 0); height as usize],
+            rows: Vec::new(),
+            width,
+        }
+    }
+
+    fn clear(&mut self) {
+        for &r in &self.rows {
+            let (c0, c1) = self.extent[r as usize];
+            let base = (r * self.width) as usize;
+            self.covered[base + c0 as usize..base + c1 as usize].fill(false);
+            self.extent[r as usize] = (u32::MAX, 0);
+        }
+        self.rows.clear();
+    }
+
+    #[inline]
+    fn cover(&mut self, s: PixelSpan) {
+        let e = &mut self.extent[s.row as usize];
+        if e.0 == u32::MAX {
+            self.rows.push(s.row);
+        }
+        *e = (e.0.min(s.c0), e.1.max(s.c1));
+        let base = (s.row * self.width) as usize;
+        self.covered[base + s.c0 as usize..base + s.c1 as usize].fill(true);
+    }
+
+    fn count(&self, weights: &[f32], counts: &mut ImageCounts) {
+        for &r in &self.rows {
+            let (c0, c1) = self.extent[r as usize];
+            let (a, b) = (
+                (r * self.width + c0) as usize,
+                (r * self.width + c1) as usize,
+            );
+            for (&m, &wt) in self.covered[a..b].iter().zip(&weights[a..b]) {
+                if m {
+                    counts.weight += f64::from(wt);
+                    counts.good += u64::from(wt > 0.0);
+                    counts.bad += u64::from(wt < 0.0);
+                }
+            }
+        }
+    }
 }
 
 impl ImageScratch {
@@ -141,69 +203,42 @@ impl ImageScratch {
     #[must_use]
     pub fn new(targets: &[ImageTarget]) -> Self {
         Self {
-            covered: targets
+            masks: targets
                 .iter()
-                .map(|t| vec![false; t.weights.len()])
+                .map(|t| Mask::new(t.camera.width, t.camera.height))
                 .collect(),
-            touched: vec![Vec::new(); targets.len()],
             rasterizer: Rasterizer::new(),
-            counts: ImageCounts::default(),
         }
     }
 
     /// Starts a new model.
     pub fn begin(&mut self) {
-        for (mask, runs) in self.covered.iter_mut().zip(&mut self.touched) {
-            for &(start, len) in runs.iter() {
-                mask[start as usize..(start + len) as usize].fill(false);
-            }
-            runs.clear();
-        }
-        self.counts = ImageCounts::default();
+        self.masks.iter_mut().for_each(Mask::clear);
     }
 
     /// Adds one instance.
     pub fn add(&mut self, targets: &[ImageTarget], shape: &RasterShape, transform: &Affine3A) {
-        let Self {
-            covered,
-            touched,
-            rasterizer,
-            counts,
-        } = self;
-        for ((target, mask), runs) in targets
-            .iter()
-            .zip(covered.iter_mut())
-            .zip(touched.iter_mut())
-        {
-            let w = target.camera.width;
-            rasterizer.spans(&target.camera, shape, transform, |s| {
-                let (a, b) = ((s.row * w + s.c0) as usize, (s.row * w + s.c1) as usize);
-                runs.push((a as u32, (b - a) as u32));
-                for (m, &wt) in mask[a..b].iter_mut().zip(&target.weights[a..b]) {
-                    if !*m {
-                        *m = true;
-                        counts.weight += f64::from(wt);
-                        if wt > 0.0 {
-                            counts.good += 1;
-                        } else if wt < 0.0 {
-                            counts.bad += 1;
-                        }
-                    }
-                }
-            });
+        for (target, mask) in targets.iter().zip(&mut self.masks) {
+            self.rasterizer
+                .spans(&target.camera, shape, transform, |s| mask.cover(s));
         }
     }
 
-    /// The counts since [`begin`](Self::begin).
+    /// The counts of the model added since [`begin`](Self::begin), over
+    /// all targets (each covered pixel counted once per target).
     #[must_use]
-    pub fn counts(&self) -> ImageCounts {
-        self.counts
+    pub fn counts_for(&self, targets: &[ImageTarget]) -> ImageCounts {
+        let mut counts = ImageCounts::default();
+        for (target, mask) in targets.iter().zip(&self.masks) {
+            mask.count(&target.weights, &mut counts);
+        }
+        counts
     }
 
     /// The coverage mask of target `i`.
     #[must_use]
     pub fn covered(&self, i: usize) -> &[bool] {
-        &self.covered[i]
+        &self.masks[i].covered
     }
 }
 

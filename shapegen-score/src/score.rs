@@ -173,7 +173,7 @@ pub trait Scene: Sync {
     /// Adds one instance of `shape`.
     fn add(&self, scratch: &mut Self::Scratch, shape: &Self::Shape, transform: &Affine3A);
     /// The counts of the model added since [`begin`](Scene::begin).
-    fn counts(scratch: &Self::Scratch) -> Self::Counts;
+    fn counts(&self, scratch: &Self::Scratch) -> Self::Counts;
     /// The score of a model with `counts` and `len` genes.
     fn score(&self, score: &Self::Score, counts: &Self::Counts, len: usize, limits: &Limits)
     -> f64;
@@ -197,7 +197,7 @@ impl Scene for VolumeScene {
     fn add(&self, scratch: &mut VolumeScratch, shape: &Solid, transform: &Affine3A) {
         scratch.add(self, shape, transform);
     }
-    fn counts(scratch: &VolumeScratch) -> VolumeCounts {
+    fn counts(&self, scratch: &VolumeScratch) -> VolumeCounts {
         scratch.counts()
     }
     fn score(
@@ -264,8 +264,8 @@ impl Scene for ImageTargets {
     fn add(&self, scratch: &mut ImageScratch, shape: &RasterShape, transform: &Affine3A) {
         scratch.add(&self.targets, shape, transform);
     }
-    fn counts(scratch: &ImageScratch) -> ImageCounts {
-        scratch.counts()
+    fn counts(&self, scratch: &ImageScratch) -> ImageCounts {
+        scratch.counts_for(&self.targets)
     }
     fn score(&self, score: &ImageScore, counts: &ImageCounts, len: usize, limits: &Limits) -> f64 {
         score.score(counts, self.target_pixels, len, limits)
@@ -340,7 +340,7 @@ impl<G: Generator, S: Scene> ModelFitness<G, S> {
             scratch: inner,
         };
         self.generator.express_with(chromosome, &mut sink, pending);
-        S::counts(inner)
+        self.scene.counts(inner)
     }
 }
 

@@ -47,7 +47,7 @@ proptest! {
             for (shape, t) in used {
                 scratch.add(std::slice::from_ref(&target), shape, t);
             }
-            let c = scratch.counts();
+            let c = scratch.counts_for(std::slice::from_ref(&target));
             let cover = reference_coverage(&cam, used);
             let good = cover.iter().zip(&weights).filter(|(c, w)| **c && **w > 0.0).count() as u64;
             let bad = cover.iter().zip(&weights).filter(|(c, w)| **c && **w < 0.0).count() as u64;

@@ -24,6 +24,48 @@ fn two_cubes() -> Mesh {
     m
 }
 
+/// Three boxes (36 triangles), drawn triangle by triangle.
+fn three_cubes() -> Mesh {
+    let mut m = two_cubes();
+    let n = m.positions.len() as u32;
+    let cube = Mesh::unit_cube();
+    m.positions.extend(
+        cube.positions
+            .iter()
+            .map(|p| *p * Vec3::new(0.3, 1.4, 0.6) + Vec3::new(-0.9, 0.2, 0.4)),
+    );
+    m.triangles
+        .extend(cube.triangles.iter().map(|t| t.map(|i| i + n)));
+    m
+}
+
+/// A closed star-shaped prism: non-convex, 10 points, 60 triangles.
+fn star_prism() -> Mesh {
+    let n = 10u32;
+    let mut positions = Vec::new();
+    for z in [-0.3f32, 0.3] {
+        positions.push(Vec3::new(0.0, 0.0, z));
+        for i in 0..n {
+            let a = i as f32 / n as f32 * std::f32::consts::TAU;
+            let r = if i % 2 == 0 { 1.0 } else { 0.4 };
+            positions.push(Vec3::new(r * a.cos(), r * a.sin(), z));
+        }
+    }
+    let top = n + 1;
+    let mut triangles = Vec::new();
+    for i in 0..n {
+        let (a, b) = (1 + i, 1 + (i + 1) % n);
+        triangles.push([0, b, a]);
+        triangles.push([top, top + a, top + b]);
+        triangles.push([a, b, top + a]);
+        triangles.push([b, top + b, top + a]);
+    }
+    Mesh {
+        positions,
+        triangles,
+    }
+}
+
 fn camera() -> impl Strategy<Value = Camera> {
     prop_oneof![
         // Perspective orbits; a near plane of up to 3 clips models that come close.
@@ -61,8 +103,8 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 128, ..ProptestConfig::default() })]
 
     #[test]
-    fn silhouettes_equal_ray_casting(cam in camera(), placements in proptest::collection::vec((placement(0.2..2.0, Vec3::splat(-2.0), Vec3::splat(2.0)), 0usize..4), 1..4)) {
-        let shapes = [Mesh::unit_cube(), Mesh::trunk(), Mesh::leaf(), two_cubes()]
+    fn silhouettes_equal_ray_casting(cam in camera(), placements in proptest::collection::vec((placement(0.2..2.0, Vec3::splat(-2.0), Vec3::splat(2.0)), 0usize..6), 1..4)) {
+        let shapes = [Mesh::unit_cube(), Mesh::trunk(), Mesh::leaf(), two_cubes(), three_cubes(), star_prism()]
             .map(|m| RasterShape::new("shape", &m).unwrap());
         let instances: Vec<(&RasterShape, Affine3A)> = placements.iter().map(|(t, k)| (&shapes[*k], *t)).collect();
         let mut fast = vec![false; (cam.width * cam.height) as usize];
