@@ -16,8 +16,26 @@
 //! genomes, operators, the GA and the SMC, SOSMC and RJMCMC baselines,
 //! expression) as its own modules and [`shapegen_score`] (meshes, OBJ,
 //! voxel and silhouette scoring) as [`score`], and holds the [`generator!`]
-//! macro, the paper's [`scenes`], built-in [`demo`] problems and the
-//! `shapegen` command line.
+//! macro, the paper's [`scenes`], [`experiment`] files (a generator, its
+//! targets, score, limits, methods and budget in TOML), built-in [`demo`]
+//! problems and the `shapegen` command line.
+//!
+//! ## Running an experiment
+//!
+//! ```
+//! use shapegen::experiment::{Experiment, Method};
+//! use shapegen::optimize::{Budget, NoObserver};
+//!
+//! // The built-in experiment: spaceships toward a ship-shaped volume.
+//! // `Experiment::load("experiments/paper/tree_sketch.toml".as_ref(), &Default::default())`
+//! // loads one of the paper's.
+//! let experiment = Experiment::builtin();
+//! let result = experiment.run(Method::Ga, &Budget::generations(5), 1, None, &mut NoObserver)?;
+//! let dir = std::env::temp_dir().join("shapegen-doc-experiment");
+//! experiment.write_model(&result.best, &dir)?; // best.obj, target.obj, slice_*.png
+//! # std::fs::remove_dir_all(&dir).ok();
+//! # Ok::<(), shapegen::experiment::ExperimentError>(())
+//! ```
 //!
 //! ## Declaring a generator
 //!

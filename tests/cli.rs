@@ -260,18 +260,26 @@ fn a_paper_experiment_runs_with_a_short_budget() {
         return;
     }
     let out = temp("paper");
-    let file = root.join("experiments/paper/city_skyline_whale.toml");
-    ok(&[
-        "run",
-        file.to_str().unwrap(),
-        "--generations",
-        "3",
-        "-q",
-        "--out",
-        out.to_str().unwrap(),
-        "--data",
-        data.to_str().unwrap(),
-    ]);
+    // As a user types it from the checkout: a relative path, the file's own data folder.
+    let file = Path::new("experiments/paper/city_skyline_whale.toml");
+    let run = Command::new(env!("CARGO_BIN_EXE_shapegen"))
+        .current_dir(root)
+        .args([
+            "run",
+            file.to_str().unwrap(),
+            "--generations",
+            "3",
+            "-q",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
     assert!(out.join("overlay.png").is_file());
     let summary = check_consistent(&out);
     assert_eq!(summary["experiment"], "city_skyline_whale");
@@ -290,7 +298,9 @@ fn a_paper_experiment_runs_with_a_short_budget() {
         "render",
         builtin.join("best.json").to_str().unwrap(),
         "--experiment",
-        file.to_str().unwrap(),
+        root.join(file).to_str().unwrap(),
+        "--data",
+        data.to_str().unwrap(),
     ]);
     assert!(
         err.contains("not a chromosome of this experiment's generator"),

@@ -59,14 +59,12 @@ impl Ctx<'_> {
                     "`${data}` is used but no data directory is set: add `data = \"...\"` to the file, pass --data or set SHAPEGEN_DATA",
                 ));
             };
+            // The data directory is already resolved (against the file or the cwd).
             data.join(rest.trim_start_matches(['/', '\\']))
+        } else if Path::new(raw).is_relative() {
+            self.base.join(raw)
         } else {
             PathBuf::from(raw)
-        };
-        let path = if path.is_relative() {
-            self.base.join(path)
-        } else {
-            path
         };
         if !path.is_file() {
             return Err(self.err(key, value, format!("no such file: {}", path.display())));

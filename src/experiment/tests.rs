@@ -140,6 +140,12 @@ fn the_paper_experiments_load() {
         names.push(e.name().to_string());
     }
     names.sort();
+    // A relative path resolves `${data}` once (the tests run in the package root).
+    let relative = Experiment::load(
+        Path::new("experiments/paper/spaceship_volume.toml"),
+        &LoadOptions::default(),
+    );
+    assert!(relative.is_ok(), "{}", relative.unwrap_err());
     assert_eq!(
         names,
         [

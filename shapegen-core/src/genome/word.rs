@@ -15,8 +15,6 @@ pub(crate) const PARENT: usize = 1;
 pub(crate) const SLOTS: usize = 2;
 /// Flag set on genes that a cut is removing (never present in a valid chromosome).
 pub(crate) const DEAD: u32 = 1 << 24;
-/// Flag set on genes that a crossover copy is keeping (never present in a valid chromosome).
-pub(crate) const KEEP: u32 = 1 << 25;
 /// Mask of the flags byte (zero in a valid chromosome).
 pub(crate) const FLAGS: u32 = 0xff << 24;
 

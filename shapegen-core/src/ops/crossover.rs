@@ -144,6 +144,10 @@ impl Key {
 /// Writes the two children of swapping the subtrees at `a_pos` and `b_pos`
 /// into `out1` and `out2`; `false` if they would break the graph's limits
 /// (the outputs' contents are then unspecified).
+///
+/// The limits are checked before anything is written, in O(subtree): the
+/// parents respect them, so a child breaks the depth limit only if the
+/// received subtree reaches too deep below the gene it replaces.
 fn swap_into(
     graph: &Graph,
     a: &Chromosome,
@@ -154,27 +158,49 @@ fn swap_into(
     out2: &mut Chromosome,
 ) -> bool {
     let limits = graph.limits();
-    let len_a = a.len() - a.subtree_len(graph, a_pos) + b.subtree_len(graph, b_pos);
-    let len_b = a.len() + b.len() - len_a;
+    let (len_sa, height_sa) = size_and_height(graph, a, a_pos);
+    let (len_sb, height_sb) = size_and_height(graph, b, b_pos);
+    let len_a = a.len() - len_sa + len_sb;
+    let len_b = b.len() - len_sb + len_sa;
     if !limits.allows_len(len_a as u32) || !limits.allows_len(len_b as u32) {
+        return false;
+    }
+    if limits.max_depth.is_some()
+        && (!limits.allows_depth(a.depth(a_pos) + height_sb)
+            || !limits.allows_depth(b.depth(b_pos) + height_sa))
+    {
         return false;
     }
     splice_into(graph, a, a_pos, b, b_pos, out1);
     splice_into(graph, b, b_pos, a, a_pos, out2);
-    !(limits.max_depth.is_some()
-        && (!limits.allows_depth(out1.max_depth(graph))
-            || !limits.allows_depth(out2.max_depth(graph))))
+    true
+}
+
+/// Genes in the subtree at `pos`, and how far below `pos` its deepest gene lies.
+fn size_and_height(graph: &Graph, c: &Chromosome, pos: u32) -> (usize, u32) {
+    let mut stack = vec![(pos as usize, 0u32)];
+    let (mut size, mut height) = (0, 0);
+    while let Some((p, d)) = stack.pop() {
+        size += 1;
+        height = height.max(d);
+        let slots = graph.layout(word::node(c.words[p])).slots as usize;
+        for &l in &c.words[p + word::SLOTS..p + word::SLOTS + slots] {
+            if l != 0 {
+                stack.push((word::follow(p, l), d + 1));
+            }
+        }
+    }
+    (size, height)
 }
 
 /// A copy of `dst` whose subtree at `at` is replaced by the subtree of `src`
 /// at `from` (paper Alg. 2: `cloneUntil(dst, at)` then `cloneFrom(src, from)`),
 /// written into `c` (its previous contents are discarded, its allocations reused).
 ///
-/// Both halves are block copies followed by one in-place sweep, with no
-/// scratch memory: `dst` is copied whole and the subtree at `at` removed by
-/// the cut sweep; then `src`'s words from `from` on are appended and
-/// [`keep_subtree`] compacts them to the subtree of `from`, hung in the slot
-/// that `at` left empty.
+/// `dst` is block-copied and the subtree at `at` removed by the cut sweep;
+/// then the subtree of `src` at `from` is appended in pre-order (parents
+/// before children, as every chromosome keeps them), hung in the slot that
+/// `at` left empty. Only the donated genes are visited, not all of `src`.
 fn splice_into(
     graph: &Graph,
     dst: &Chromosome,
@@ -183,24 +209,18 @@ fn splice_into(
     from: u32,
     c: &mut Chromosome,
 ) {
-    let from = from as usize;
-    let k_from = src.index.partition_point(|&p| (p as usize) < from);
     c.words.clear();
-    c.words
-        .reserve(dst.words.len() + src.words.len() - from + SLACK_WORDS);
+    c.words.reserve(dst.words.len() + SLACK_WORDS);
     c.words.extend_from_slice(&dst.words);
     c.index.clear();
-    c.index.reserve(dst.index.len() + src.index.len() - k_from);
+    c.index.reserve(dst.index.len());
     c.index.extend_from_slice(&dst.index);
     let hole = cut_unchecked(graph, c, at);
-    let base = c.words.len();
-    c.words.extend_from_slice(&src.words[from..]);
-    keep_subtree(
+    append_subtree(
         graph,
         c,
-        base,
-        &src.index[k_from..],
-        from,
+        src,
+        from as usize,
         hole.parent as usize,
         hole.slot,
     );
@@ -209,56 +229,37 @@ fn splice_into(
 /// Extra words reserved by crossover children, so a following grow does not reallocate.
 const SLACK_WORDS: usize = 64;
 
-/// In-place sweep over the block `c.words[base..]`, a verbatim copy of
-/// another chromosome's words from its gene at `src_from` on (`src_positions`
-/// are that chromosome's gene positions from `src_from`): keeps the block's
-/// first gene and every gene whose parent was kept, compacting them to
-/// `base`, and hangs the first gene in slot `slot` of the gene at `parent`
-/// (its slot index may differ from the one it had, under `EdgeMatch::ChildType`).
-///
-/// A kept gene flags its children kept and writes its new position into
-/// their parent links (they lie ahead, not yet overwritten), so each gene
-/// knows its fate and its parent's new position when the sweep reaches it.
-fn keep_subtree(
+/// Appends the subtree of `src` at `from` to `c` in pre-order (children in
+/// slot order), hanging its root in slot `slot` of the gene at `parent` (the
+/// slot index may differ from the one it had, under `EdgeMatch::ChildType`).
+fn append_subtree(
     graph: &Graph,
     c: &mut Chromosome,
-    base: usize,
-    src_positions: &[u32],
-    src_from: usize,
+    src: &Chromosome,
+    from: usize,
     parent: usize,
     slot: u32,
 ) {
     let Chromosome { words, index } = c;
-    words[base] |= word::KEEP;
-    let mut w = base;
-    for &sp in src_positions {
-        let r = sp as usize - src_from + base;
-        let w0 = words[r];
-        if w0 & word::KEEP == 0 {
-            continue;
-        }
+    // (position in src, new parent, slot in it).
+    let mut stack = vec![(from, parent, slot)];
+    while let Some((sp, new_parent, s)) = stack.pop() {
+        let w0 = src.words[sp];
         let layout = graph.layout(word::node(w0));
-        let (new_parent, s) = if r == base {
-            (parent, slot)
-        } else {
-            (word::follow(r, words[r + word::PARENT]), word::slot(w0))
-        };
-        for j in r + word::SLOTS..r + word::SLOTS + layout.slots as usize {
-            if words[j] != 0 {
-                let child = word::follow(r, words[j]);
-                words[child] |= word::KEEP;
-                words[child + word::PARENT] = word::link(child, w);
-            }
-        }
-        let size = layout.gene_words as usize;
-        if w < r {
-            words.copy_within(r..r + size, w);
-        }
+        let w = words.len();
+        words.extend_from_slice(&src.words[sp..sp + layout.gene_words as usize]);
         words[w] = word::header(word::node(w0), s);
         words[w + word::PARENT] = word::link(w, new_parent);
         words[new_parent + word::SLOTS + s as usize] = word::link(new_parent, w);
         index.push(w as u32);
-        w += size;
+        // Children are linked when they are written; push them so that
+        // slot 0 comes out first.
+        for j in (0..layout.slots as usize).rev() {
+            let l = src.words[sp + word::SLOTS + j];
+            if l != 0 {
+                words[w + word::SLOTS + j] = 0;
+                stack.push((word::follow(sp, l), w, j as u32));
+            }
+        }
     }
-    words.truncate(w);
 }
