@@ -143,7 +143,18 @@ pub(super) struct GaFile {
     pub tournament: Option<usize>,
     pub elite_dedup: Option<bool>,
     pub max_retries: Option<u32>,
+    pub crossover: Option<EdgeMatchFile>,
     pub budget: Option<Spanned<BudgetFile>>,
+}
+
+/// `ga.crossover`: which connections may swap subtrees.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum EdgeMatchFile {
+    /// The same generator-graph edge (parent node and slot): the paper.
+    Strict,
+    /// Any connection to the same child node: the authors' code.
+    ChildType,
 }
 
 /// `split = { grow, cut, alter }` of the GA.

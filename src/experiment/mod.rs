@@ -70,7 +70,8 @@
 //! init_length = 50          # initial lengths uniform in [L0/2, 3 L0/2]
 //! mutation_rate = 0.3
 //! split = { grow = 13.5, cut = 13.5, alter = 3.0 }
-//! # tournament = 10, elite_dedup = false, max_retries = 3
+//! # tournament = 10, elite_dedup = false, max_retries = 3,
+//! # crossover = "strict" (same graph edge, the paper) | "child_type" (same child node, the authors' code)
 //! budget = { generations = 130 }
 //!
 //! [smc]                     # and [sosmc]

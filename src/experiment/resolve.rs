@@ -9,7 +9,8 @@ use toml::Spanned;
 
 use super::error::Source;
 use super::file::{
-    BudgetFile, DelayedRejectionFile, ExperimentFile, ImageFile, ScoreForm, VolumeFile,
+    BudgetFile, DelayedRejectionFile, EdgeMatchFile, ExperimentFile, ImageFile, ScoreForm,
+    VolumeFile,
 };
 use super::problem::{ModelProblem, Problem};
 use super::{Experiment, ExperimentError, LoadOptions, Method, MethodConfig, MethodParams};
@@ -17,7 +18,7 @@ use crate::demo::spaceship_target;
 use crate::express::Generator;
 use crate::glam::{DVec3, UVec3, Vec3};
 use crate::graph::{Graph, Limits};
-use crate::ops::{CrossoverConfig, InitLength, MutationSplit};
+use crate::ops::{CrossoverConfig, EdgeMatch, InitLength, MutationSplit};
 use crate::optimize::{Budget, DelayedRejection, GaParams, RjmcmcParams, SmcParams};
 use crate::scenes::{GridCity, SpaceFillingCity, Spaceship, TreeV1, TreeV2};
 use crate::score::Grid;
@@ -173,7 +174,10 @@ fn methods(
                 tournament: g.tournament.unwrap_or(10),
                 crossover: CrossoverConfig {
                     max_retries: g.max_retries.unwrap_or(3),
-                    ..GaParams::paper_spaceship().crossover
+                    edge_match: match g.crossover {
+                        None | Some(EdgeMatchFile::Strict) => EdgeMatch::Strict,
+                        Some(EdgeMatchFile::ChildType) => EdgeMatch::ChildType,
+                    },
                 },
                 elite_dedup: g.elite_dedup.unwrap_or(false),
                 ..GaParams::paper_spaceship()

@@ -141,7 +141,22 @@ pub(crate) struct RunId<'g> {
     pub seed: u64,
 }
 
-impl RunId<'_> {
+impl<'g> RunId<'g> {
+    /// The identity of a run of `method` with `params` and `seed` on `graph`.
+    pub fn new(
+        graph: &'g Graph,
+        method: &'static str,
+        params: &impl std::fmt::Debug,
+        seed: u64,
+    ) -> Self {
+        Self {
+            graph,
+            method,
+            params: params_fingerprint(params),
+            seed,
+        }
+    }
+
     /// Refuses a checkpoint of another method, parameters, seed or format.
     pub fn check(&self, cp: &Checkpoint) -> Result<(), OptimizeError> {
         let bad = |what: String| Err(OptimizeError::Checkpoint(what));

@@ -5,7 +5,7 @@ use std::collections::HashSet;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::checkpoint::{Checkpoint, RunId, SavedIndividual, SavedState, params_fingerprint};
+use super::checkpoint::{Checkpoint, RunId, SavedIndividual, SavedState};
 use super::fitness::is_valid_score;
 use super::progress::{Candidate, Progress, evaluate};
 use super::scratch::ScratchPool;
@@ -232,15 +232,9 @@ impl Optimizer for Ga {
         start: Option<&Checkpoint>,
         observer: &mut dyn Observer,
     ) -> Result<RunResult, OptimizeError> {
-        let id = RunId {
-            graph,
-            method: self.name(),
-            params: params_fingerprint(&self.params),
-            seed,
-        };
+        let id = RunId::new(graph, self.name(), &self.params, seed);
         let mut progress = Progress::start(id, self.params.problems(), *budget, observer)?;
         let pool = ScratchPool::new();
-        let mut resumed = false;
         let mut population = match start {
             Some(cp) => {
                 let SavedState::Population { individuals } = progress.resume(cp)? else {
@@ -248,7 +242,6 @@ impl Optimizer for Ga {
                         "it holds no GA population".into(),
                     ));
                 };
-                resumed = true;
                 individuals
                     .iter()
                     .map(|i| i.restore(graph))
@@ -265,19 +258,13 @@ impl Optimizer for Ga {
         let mut scores = Vec::with_capacity(self.params.population);
         loop {
             population.sort_by(|a, b| rank_order(a.fitness, b.fitness));
-            let stop = if std::mem::take(&mut resumed) {
-                // This generation was reported before the checkpoint.
-                progress.budget_reached()
-            } else {
-                let save = || SavedState::Population {
-                    individuals: population
-                        .iter()
-                        .map(|i| SavedIndividual::save(graph, i))
-                        .collect(),
-                };
-                progress.generation_done(&population, &save)
+            let save = || SavedState::Population {
+                individuals: population
+                    .iter()
+                    .map(|i| SavedIndividual::save(graph, i))
+                    .collect(),
             };
-            if let Some(stop) = stop {
+            if let Some(stop) = progress.generation_end(&population, &save) {
                 return Ok(progress.finish(stop, population));
             }
             progress.generation += 1;

@@ -71,6 +71,8 @@ pub(crate) struct Progress<'o> {
     pub evaluations: u64,
     pub generation: u64,
     best: Option<Individual>,
+    /// The current generation was reported before a checkpoint this run resumed from.
+    resumed: bool,
 }
 
 impl<'o> Progress<'o> {
@@ -97,6 +99,7 @@ impl<'o> Progress<'o> {
             evaluations: 0,
             generation: 0,
             best: None,
+            resumed: false,
         })
     }
 
@@ -112,6 +115,7 @@ impl<'o> Progress<'o> {
         self.offset = checkpoint.elapsed;
         // SMC's best so far may be an unfinished particle (short, failed).
         self.best = Some(checkpoint.best.restore_partial(self.id.graph)?);
+        self.resumed = true;
         Ok(&checkpoint.state)
     }
 
@@ -119,8 +123,28 @@ impl<'o> Progress<'o> {
         self.offset + self.start.elapsed()
     }
 
-    /// Whether the budget is spent (checked right after a resume, where the
-    /// generation was already reported before the checkpoint).
+    /// Ends a generation: reports it ([`generation_done`](Self::generation_done))
+    /// and tells whether to stop — except for the generation a resumed run
+    /// starts from, reported before its checkpoint, where only the budget is checked.
+    pub fn generation_end(
+        &mut self,
+        population: &[Individual],
+        state: &dyn Fn() -> SavedState,
+    ) -> Option<StopReason> {
+        if self.take_resumed() {
+            self.budget_reached()
+        } else {
+            self.generation_done(population, state)
+        }
+    }
+
+    /// Whether this is the generation a resumed run starts from (already
+    /// reported before the checkpoint); true once.
+    pub fn take_resumed(&mut self) -> bool {
+        std::mem::take(&mut self.resumed)
+    }
+
+    /// Whether the budget is spent.
     pub fn budget_reached(&self) -> Option<StopReason> {
         let best = self
             .best

@@ -2,7 +2,7 @@
 
 use rayon::prelude::*;
 
-use super::checkpoint::{Checkpoint, RunId, SavedState, params_fingerprint};
+use super::checkpoint::{Checkpoint, RunId, SavedState};
 use super::progress::{Candidate, Progress, evaluate};
 use super::scratch::ScratchPool;
 use super::selection::rank_order;
@@ -39,16 +39,12 @@ impl Optimizer for RandomSearch {
         } else {
             Vec::new()
         };
-        let id = RunId {
-            graph,
-            method: self.name(),
-            params: params_fingerprint(self),
-            seed,
-        };
+        let id = RunId::new(graph, self.name(), self, seed);
         let mut progress = Progress::start(id, problems, *budget, observer)?;
         if let Some(cp) = start {
             // Batches are independent: the counters and the best are the state.
             progress.resume(cp)?;
+            progress.take_resumed();
             let best = cp.best.restore(graph)?;
             if let Some(stop) = progress.budget_reached() {
                 return Ok(progress.finish(stop, vec![best]));

@@ -32,7 +32,7 @@ use rand::{Rng, RngExt};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::checkpoint::{Checkpoint, RunId, SavedIndividual, SavedState, params_fingerprint};
+use super::checkpoint::{Checkpoint, RunId, SavedIndividual, SavedState};
 use super::fitness::is_valid_score;
 use super::progress::{Candidate, Progress, evaluate};
 use super::scratch::ScratchPool;
@@ -514,15 +514,9 @@ impl Optimizer for Rjmcmc {
         start: Option<&Checkpoint>,
         observer: &mut dyn Observer,
     ) -> Result<RunResult, OptimizeError> {
-        let id = RunId {
-            graph,
-            method: self.name(),
-            params: params_fingerprint(&self.params),
-            seed,
-        };
+        let id = RunId::new(graph, self.name(), &self.params, seed);
         let mut progress = Progress::start(id, self.params.problems(), *budget, observer)?;
         let pool = ScratchPool::new();
-        let mut resumed = false;
         let (mut chains, mut betas) = match start {
             Some(cp) => {
                 let SavedState::Chains { chains, betas_bits } = progress.resume(cp)? else {
@@ -537,7 +531,6 @@ impl Optimizer for Rjmcmc {
                         self.params.chains
                     )));
                 }
-                resumed = true;
                 let chains = chains
                     .iter()
                     .map(|c| c.restore(graph))
@@ -565,18 +558,14 @@ impl Optimizer for Rjmcmc {
         };
         let ll = self.params.log_likelihood;
         loop {
-            let stop = if std::mem::take(&mut resumed) {
-                progress.budget_reached()
-            } else {
-                let save = || SavedState::Chains {
-                    chains: chains
-                        .iter()
-                        .map(|c| SavedIndividual::save(graph, c))
-                        .collect(),
-                    betas_bits: betas.iter().map(|b| b.to_bits()).collect(),
-                };
-                progress.generation_done(&chains, &save)
+            let save = || SavedState::Chains {
+                chains: chains
+                    .iter()
+                    .map(|c| SavedIndividual::save(graph, c))
+                    .collect(),
+                betas_bits: betas.iter().map(|b| b.to_bits()).collect(),
             };
+            let stop = progress.generation_end(&chains, &save);
             if let Some(stop) = stop {
                 return Ok(progress.finish(stop, chains));
             }

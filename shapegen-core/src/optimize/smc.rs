@@ -20,9 +20,7 @@ use rand::{Rng, RngExt};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::checkpoint::{
-    Checkpoint, RunId, SavedIndividual, SavedParticle, SavedState, params_fingerprint,
-};
+use super::checkpoint::{Checkpoint, RunId, SavedIndividual, SavedParticle, SavedState};
 use super::fitness::is_valid_score;
 use super::progress::{Candidate, Progress, evaluate};
 use super::scratch::ScratchPool;
@@ -354,16 +352,10 @@ impl Optimizer for Smc {
         start: Option<&Checkpoint>,
         observer: &mut dyn Observer,
     ) -> Result<RunResult, OptimizeError> {
-        let id = RunId {
-            graph,
-            method: self.name(),
-            params: params_fingerprint(&self.params),
-            seed,
-        };
+        let id = RunId::new(graph, self.name(), &self.params, seed);
         let mut progress = Progress::start(id, self.params.problems(), *budget, observer)?;
         let pool = ScratchPool::new();
         let order = self.params.order;
-        let mut resumed = false;
         let mut particles: Vec<Particle> = match start {
             Some(cp) => {
                 let SavedState::Particles { particles } = progress.resume(cp)? else {
@@ -378,7 +370,6 @@ impl Optimizer for Smc {
                         self.params.particles
                     )));
                 }
-                resumed = true;
                 particles
                     .iter()
                     .map(|p| Particle::restore(graph, p))
@@ -405,7 +396,7 @@ impl Optimizer for Smc {
         let (mut weights, mut picks) = (Vec::new(), Vec::new());
         let min_len = graph.limits().min_len as usize;
         loop {
-            let stop = if std::mem::take(&mut resumed) {
+            let stop = if progress.take_resumed() {
                 // This generation was reported before the checkpoint.
                 progress.budget_reached()
             } else {
