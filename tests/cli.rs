@@ -335,3 +335,55 @@ fn bad_input_gets_a_clear_error() {
     assert!(err.contains("not a shapegen checkpoint"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Ctrl-C (SIGINT) stops a run after the current generation and still
+/// writes every result file, with a checkpoint to resume from.
+#[cfg(unix)]
+#[test]
+fn ctrl_c_writes_the_results_so_far() {
+    let dir = temp("sigint");
+    let out = dir.join("out");
+    let cp = dir.join("run.checkpoint");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_shapegen"))
+        .args(["run", "--generations", "1000000", "-q", "--out"])
+        .arg(&out)
+        .arg("--checkpoint")
+        .arg(&cp)
+        .arg("--every")
+        .arg("1000000")
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Let it get going, then interrupt it as a terminal would.
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let output = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(stderr.contains("interrupted"), "{stderr}");
+    let summary = check_consistent(&out);
+    assert_eq!(summary["stop"], "observer");
+    assert!(out.join("best.obj").is_file());
+    // The checkpoint written on Ctrl-C resumes where the run stopped.
+    let generations = summary["generations"].as_u64().unwrap();
+    let resumed = dir.join("resumed");
+    ok(&[
+        "run",
+        "--resume",
+        cp.to_str().unwrap(),
+        "--generations",
+        &(generations + 2).to_string(),
+        "-q",
+        "--out",
+        resumed.to_str().unwrap(),
+    ]);
+    assert_eq!(
+        json(&resumed.join("summary.json"))["generations"],
+        generations + 2
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
