@@ -158,8 +158,8 @@ fn swap_into(
     out2: &mut Chromosome,
 ) -> bool {
     let limits = graph.limits();
-    let (len_sa, height_sa) = size_and_height(graph, a, a_pos);
-    let (len_sb, height_sb) = size_and_height(graph, b, b_pos);
+    let (len_sa, words_sa, height_sa) = subtree_extent(graph, a, a_pos);
+    let (len_sb, words_sb, height_sb) = subtree_extent(graph, b, b_pos);
     let len_a = a.len() - len_sa + len_sb;
     let len_b = b.len() - len_sb + len_sa;
     if !limits.allows_len(len_a as u32) || !limits.allows_len(len_b as u32) {
@@ -171,26 +171,29 @@ fn swap_into(
     {
         return false;
     }
-    splice_into(graph, a, a_pos, b, b_pos, out1);
-    splice_into(graph, b, b_pos, a, a_pos, out2);
+    splice_into(graph, a, a_pos, b, b_pos, words_sb, out1);
+    splice_into(graph, b, b_pos, a, a_pos, words_sa, out2);
     true
 }
 
-/// Genes in the subtree at `pos`, and how far below `pos` its deepest gene lies.
-fn size_and_height(graph: &Graph, c: &Chromosome, pos: u32) -> (usize, u32) {
+/// Genes and words in the subtree at `pos`, and how far below `pos` its
+/// deepest gene lies.
+fn subtree_extent(graph: &Graph, c: &Chromosome, pos: u32) -> (usize, usize, u32) {
     let mut stack = vec![(pos as usize, 0u32)];
-    let (mut size, mut height) = (0, 0);
+    let (mut size, mut words, mut height) = (0, 0, 0);
     while let Some((p, d)) = stack.pop() {
         size += 1;
         height = height.max(d);
-        let slots = graph.layout(word::node(c.words[p])).slots as usize;
+        let layout = graph.layout(word::node(c.words[p]));
+        words += layout.gene_words as usize;
+        let slots = layout.slots as usize;
         for &l in &c.words[p + word::SLOTS..p + word::SLOTS + slots] {
             if l != 0 {
                 stack.push((word::follow(p, l), d + 1));
             }
         }
     }
-    (size, height)
+    (size, words, height)
 }
 
 /// A copy of `dst` whose subtree at `at` is replaced by the subtree of `src`
@@ -200,20 +203,23 @@ fn size_and_height(graph: &Graph, c: &Chromosome, pos: u32) -> (usize, u32) {
 /// `dst` is block-copied and the subtree at `at` removed by the cut sweep;
 /// then the subtree of `src` at `from` is appended in pre-order (parents
 /// before children, as every chromosome keeps them), hung in the slot that
-/// `at` left empty. Only the donated genes are visited, not all of `src`.
+/// `at` left empty. Only the donated genes are visited, not all of `src`;
+/// `donated_words` (their size) is reserved up front.
 fn splice_into(
     graph: &Graph,
     dst: &Chromosome,
     at: u32,
     src: &Chromosome,
     from: u32,
+    donated_words: usize,
     c: &mut Chromosome,
 ) {
     c.words.clear();
-    c.words.reserve(dst.words.len() + SLACK_WORDS);
+    c.words
+        .reserve(dst.words.len() + donated_words + SLACK_WORDS);
     c.words.extend_from_slice(&dst.words);
     c.index.clear();
-    c.index.reserve(dst.index.len());
+    c.index.reserve(dst.index.len() + donated_words);
     c.index.extend_from_slice(&dst.index);
     let hole = cut_unchecked(graph, c, at);
     append_subtree(
