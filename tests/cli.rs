@@ -344,7 +344,7 @@ fn ctrl_c_writes_the_results_so_far() {
     let dir = temp("sigint");
     let out = dir.join("out");
     let cp = dir.join("run.checkpoint");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_shapegen"))
+    let child = Command::new(env!("CARGO_BIN_EXE_shapegen"))
         .args(["run", "--generations", "1000000", "-q", "--out"])
         .arg(&out)
         .arg("--checkpoint")
