@@ -87,6 +87,9 @@ pub fn compare(args: &CompareArgs) -> Result<(), CliError> {
             args.seconds
         )));
     }
+    for w in experiment.warnings() {
+        eprintln!("shapegen: warning: {w}");
+    }
     let pool = thread_pool(args.threads)?;
     let threads = pool.current_num_threads();
     let budget = Budget::wall_time(Duration::from_secs_f64(args.seconds));
@@ -98,7 +101,7 @@ pub fn compare(args: &CompareArgs) -> Result<(), CliError> {
         }
     }
     eprintln!(
-        "shapegen: comparing {} on `{}` ({}): {} run(s) × {:.0} s each, {threads} thread(s)",
+        "shapegen: comparing {} on `{}` ({}): {} run(s) × {} s each, {threads} thread(s)",
         methods
             .iter()
             .map(|m| m.name())
