@@ -71,10 +71,15 @@ impl SceneOutputs for VolumeScene {
         dir: &Path,
     ) -> Result<Vec<PathBuf>, ExperimentError> {
         let d = self.grid().dims();
-        // Enlarge small grids so a slice is at least ~400 pixels across.
-        let scale = (400 / d.max_element().max(1)).clamp(1, 8);
         let mut written = Vec::new();
         for (axis, name) in ["x", "y", "z"].iter().enumerate() {
+            // Enlarge small slices to about 400 pixels across.
+            let across = (0..3)
+                .filter(|&a| a != axis)
+                .map(|a| d[a])
+                .max()
+                .unwrap_or(1);
+            let scale = (400 / across.max(1)).clamp(1, 8);
             let path = dir.join(format!("slice_{name}.png"));
             self.write_slice(&path, scratch.hits(), axis, d[axis] / 2, scale)?;
             written.push(path);
