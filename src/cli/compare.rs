@@ -4,7 +4,6 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::ops::ControlFlow;
-use std::time::Duration;
 
 use serde::Serialize;
 use shapegen::experiment::{Method, write_atomically};
@@ -14,7 +13,7 @@ use super::args::CompareArgs;
 use super::curve::{self, Row};
 use super::plot::{self, Series};
 use super::run::write_json;
-use super::{CliError, interrupted, load_experiment, thread_pool};
+use super::{CliError, interrupted, load_experiment, seconds, thread_pool};
 
 /// Points of the common time grid.
 const GRID: usize = 200;
@@ -81,18 +80,12 @@ pub fn compare(args: &CompareArgs) -> Result<(), CliError> {
     if args.runs == 0 || args.methods.is_empty() {
         return Err(CliError::msg("give at least one method and one run"));
     }
-    if !(args.seconds > 0.0 && args.seconds.is_finite()) {
-        return Err(CliError::msg(format!(
-            "--seconds must be > 0, got {}",
-            args.seconds
-        )));
-    }
     for w in experiment.warnings() {
         eprintln!("shapegen: warning: {w}");
     }
     let pool = thread_pool(args.threads)?;
     let threads = pool.current_num_threads();
-    let budget = Budget::wall_time(Duration::from_secs_f64(args.seconds));
+    let budget = Budget::wall_time(seconds(args.seconds)?);
     let first_seed = args.seed.unwrap_or(experiment.seed());
     let mut methods: Vec<Method> = Vec::new();
     for m in &args.methods {
@@ -154,6 +147,8 @@ pub fn compare(args: &CompareArgs) -> Result<(), CliError> {
         .collect();
     let mut series = Vec::new();
     let mut curves_csv = String::from("method,seconds,mean_best,std_best,runs\n");
+    // Per method: the mean curve on the time grid, and the final mean and std.
+    let mut curves = BTreeMap::new();
     let mut finals = BTreeMap::new();
     for (&method, runs) in &all {
         let stats: Vec<(f64, f64, usize)> = times.iter().map(|&t| at(runs, t)).collect();
@@ -165,8 +160,7 @@ pub fn compare(args: &CompareArgs) -> Result<(), CliError> {
                 curve::number(*std)
             );
         }
-        let (final_mean, _) = mean_std(runs.iter().map(|r| r.result.best_fitness));
-        finals.insert(method, final_mean);
+        finals.insert(method, mean_std(runs.iter().map(|r| r.result.best_fitness)));
         series.push(Series {
             name: method.name().to_string(),
             points: times
@@ -176,6 +170,7 @@ pub fn compare(args: &CompareArgs) -> Result<(), CliError> {
                 .map(|(&t, &(m, s, _))| (t, m, s))
                 .collect(),
         });
+        curves.insert(method, stats);
     }
     let mut summary = CompareSummary {
         experiment: experiment.name().to_string(),
@@ -195,24 +190,27 @@ pub fn compare(args: &CompareArgs) -> Result<(), CliError> {
         for f in FRACTIONS {
             let key = format!("{:.0}%", f * 100.0);
             let v = if f == 1.0 {
-                Some(mean_std(runs.iter().map(|r| r.result.best_fitness)))
+                Some(finals[&method])
             } else {
                 full(f * args.seconds)
             };
             mean_at.insert(key.clone(), v.map(|v| v.0));
             std_at.insert(key, v.map(|v| v.1));
         }
+        let (final_mean, final_std) = finals[&method];
         let mut seconds_to_reach = BTreeMap::new();
-        for (&other, &goal) in &finals {
+        for (&other, &(goal, _)) in &finals {
             if other == method {
                 continue;
             }
+            // The first grid time where every run has a model and the mean reaches the goal.
             let reached = times
                 .iter()
-                .find(|&&t| full(t).is_some_and(|(m, _)| m >= goal))
-                .copied()
+                .zip(&curves[&method])
+                .find(|&(_, &(m, _, n))| n == runs.len() && m >= goal)
+                .map(|(&t, _)| t)
                 // The last grid point is the budget; a run's end counts too.
-                .or_else(|| (finals[&method] >= goal).then_some(args.seconds));
+                .or_else(|| (final_mean >= goal).then_some(args.seconds));
             seconds_to_reach.insert(other.name().to_string(), reached);
         }
         let best_run = runs
@@ -220,7 +218,6 @@ pub fn compare(args: &CompareArgs) -> Result<(), CliError> {
             .max_by(|a, b| a.result.best_fitness.total_cmp(&b.result.best_fitness))
             .expect("at least one run");
         let n = runs.len() as f64;
-        let (final_mean, final_std) = mean_std(runs.iter().map(|r| r.result.best_fitness));
         summary.methods.insert(
             method.name().to_string(),
             MethodSummary {
@@ -367,7 +364,7 @@ mod tests {
                 best_fitness: 0.0,
                 evaluations: 0,
                 generations: 0,
-                elapsed: Duration::ZERO,
+                elapsed: std::time::Duration::ZERO,
                 stop: shapegen::optimize::StopReason::WallTime,
                 population: Vec::new(),
             },

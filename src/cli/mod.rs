@@ -68,6 +68,15 @@ fn load_experiment(path: Option<&Path>, data: Option<&Path>) -> Result<Experimen
     })
 }
 
+/// A `--seconds` value as a duration (finite and > 0).
+fn seconds(s: f64) -> Result<std::time::Duration, CliError> {
+    if s > 0.0 && s.is_finite() {
+        Ok(std::time::Duration::from_secs_f64(s))
+    } else {
+        Err(CliError::msg(format!("--seconds must be > 0, got {s}")))
+    }
+}
+
 /// A rayon pool with `threads` workers (default: all cores).
 fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, CliError> {
     if threads == Some(0) {

@@ -12,7 +12,7 @@ use shapegen::optimize::{Budget, Checkpoint, GenerationStats, RunResult, StopRea
 
 use super::args::RunArgs;
 use super::curve::{self, Row};
-use super::{CliError, interrupted, load_experiment, thread_pool};
+use super::{CliError, interrupted, load_experiment, seconds, thread_pool};
 
 /// What a checkpoint file holds: the optimizer's checkpoint plus what the
 /// CLI needs to continue the same run and its curve.
@@ -246,14 +246,6 @@ fn read_saved(path: &Path) -> Result<SavedRun, CliError> {
             path.display()
         ))
     })
-}
-
-fn seconds(s: f64) -> Result<Duration, CliError> {
-    if s > 0.0 && s.is_finite() {
-        Ok(Duration::from_secs_f64(s))
-    } else {
-        Err(CliError::msg(format!("--seconds must be > 0, got {s}")))
-    }
 }
 
 fn list(paths: &[PathBuf]) -> String {

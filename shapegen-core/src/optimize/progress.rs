@@ -146,6 +146,11 @@ impl<'o> Progress<'o> {
 
     /// Whether the budget is spent.
     pub fn budget_reached(&self) -> Option<StopReason> {
+        self.budget_reached_at(self.elapsed())
+    }
+
+    /// [`budget_reached`](Self::budget_reached) with the elapsed time given.
+    fn budget_reached_at(&self, elapsed: Duration) -> Option<StopReason> {
         let best = self
             .best
             .as_ref()
@@ -153,7 +158,7 @@ impl<'o> Progress<'o> {
             .filter(|f| is_valid_score(*f))
             .unwrap_or(f64::NEG_INFINITY);
         self.budget
-            .reached(self.generation, self.evaluations, self.elapsed(), best)
+            .reached(self.generation, self.evaluations, elapsed, best)
     }
 
     /// Records a finished generation (`population` need not be sorted) and
@@ -201,13 +206,7 @@ impl<'o> Progress<'o> {
         if let ControlFlow::Break(()) = self.observer.generation(&stats) {
             return Some(StopReason::Observer);
         }
-        let best_valid = if is_valid_score(best_so_far.fitness) {
-            best_so_far.fitness
-        } else {
-            f64::NEG_INFINITY
-        };
-        self.budget
-            .reached(self.generation, self.evaluations, elapsed, best_valid)
+        self.budget_reached_at(elapsed)
     }
 
     /// The result of the run.
