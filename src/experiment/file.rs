@@ -17,7 +17,7 @@ pub(super) struct ExperimentFile {
     pub seed: Option<u64>,
     pub method: Option<Spanned<String>>,
     pub optimum: Option<f64>,
-    pub limits: Option<LimitsFile>,
+    pub limits: Option<Spanned<LimitsFile>>,
     pub budget: Option<Spanned<BudgetFile>>,
     #[serde(default)]
     pub shapes: BTreeMap<String, ShapeFile>,

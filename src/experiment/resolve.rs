@@ -212,12 +212,14 @@ fn methods(
             },
             Some(t) => {
                 let s = t.get_ref();
-                if s.particles == 0 {
-                    return Err(ctx.err(method.name(), t, "particles must be at least 1"));
+                let params = preset(s.particles);
+                let problems = params.problems();
+                if !problems.is_empty() {
+                    return Err(ctx.err(method.name(), t, problems.join("; ")));
                 }
                 let key = format!("{method}.budget");
                 MethodConfig {
-                    params: MethodParams::Smc(preset(s.particles)),
+                    params: MethodParams::Smc(params),
                     budget: s
                         .budget
                         .as_ref()
@@ -248,19 +250,7 @@ fn methods(
                 Some(DelayedRejectionFile::Exact) => DelayedRejection::Exact,
                 Some(DelayedRejectionFile::ApproxAlter) => DelayedRejection::ApproxAlter,
             };
-            let mut problems = Vec::new();
-            if r.chains == 0 {
-                problems.push("chains must be at least 1".to_string());
-            }
-            if !(0.0..=1.0).contains(&params.jump_probability) {
-                problems.push("jump_probability must be in [0, 1]".to_string());
-            }
-            if params
-                .annealing
-                .is_some_and(|a| !(a > 0.0 && a.is_finite()))
-            {
-                problems.push("annealing must be finite and > 0".to_string());
-            }
+            let problems = params.problems();
             if !problems.is_empty() {
                 return Err(ctx.err("rjmcmc", t, problems.join("; ")));
             }
@@ -307,7 +297,7 @@ where
     G::State: Send,
 {
     let own = *generator.graph().limits();
-    let limits = match &f.limits {
+    let limits = match f.limits.as_ref().map(Spanned::get_ref) {
         None => own,
         Some(l) => Limits {
             min_len: l.min_len.unwrap_or(own.min_len),
@@ -316,9 +306,10 @@ where
         },
     };
     let graph = Graph::new(generator.graph().spec().clone().with_limits(limits)).map_err(|e| {
+        let span = f.limits.as_ref().map_or(0..0, Spanned::span);
         ctx.src.error(
             "limits",
-            0..0,
+            span,
             format!("the limits do not fit the generator: {e}"),
         )
     })?;

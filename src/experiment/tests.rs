@@ -87,6 +87,13 @@ fn errors_name_the_key_and_the_line() {
     let (line, key, msg) = invalid(&format!("{MINIMAL}{ga}"));
     assert_eq!((line, key.as_str()), (11, "ga"));
     assert!(msg.contains("elites"), "{msg}");
+    // Parameters RJMCMC and SMC refuse (their own checks, with the table's line).
+    let (line, key, msg) = invalid(&format!("{MINIMAL}[rjmcmc]\nchains = 0\ninit_length = 5\n"));
+    assert_eq!((line, key.as_str()), (11, "rjmcmc"));
+    assert!(msg.contains("chains"), "{msg}");
+    let (_, key, msg) = invalid(&format!("{MINIMAL}[sosmc]\nparticles = 0\n"));
+    assert_eq!(key, "sosmc");
+    assert!(msg.contains("particles"), "{msg}");
     // An empty budget, a bad grid, a syntax error.
     let (_, key, _) = invalid(&format!("{MINIMAL}[budget]\n"));
     assert_eq!(key, "budget");

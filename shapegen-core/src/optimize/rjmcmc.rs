@@ -166,7 +166,8 @@ impl RjmcmcParams {
         }
     }
 
-    fn problems(&self) -> Vec<String> {
+    /// Every problem with these parameters.
+    pub fn problems(&self) -> Vec<String> {
         let mut p = Vec::new();
         if self.chains == 0 {
             p.push("chains must be at least 1".to_string());

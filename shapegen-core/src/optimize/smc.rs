@@ -106,7 +106,8 @@ impl SmcParams {
         }
     }
 
-    fn problems(&self) -> Vec<String> {
+    /// Every problem with these parameters.
+    pub fn problems(&self) -> Vec<String> {
         let mut p = Vec::new();
         if self.particles == 0 {
             p.push("particles must be at least 1".to_string());
