@@ -74,12 +74,18 @@ pub fn cut_at(graph: &Graph, c: &mut Chromosome, pos: u32) -> Result<Cut, OpErro
 /// The paper's cut (Fig. 5c): one forward sweep from the victim that drops
 /// dead genes, compacts survivors to the front and fixes their links.
 ///
-/// No scratch memory: when a surviving gene moves from `r` to `w`, it writes
-/// its new position into each child's parent link (children lie after `r`
-/// and have not been overwritten yet), and a dead gene flags its children
-/// dead the same way. A survivor therefore always finds its parent's new
-/// position through its own parent link, and patches the parent's slot.
-/// The gene index is compacted in the same sweep.
+/// No scratch memory: when a surviving gene's new position is known, it
+/// writes it into each child's parent link (children lie after it and have
+/// not moved yet), and a dead gene flags its children dead the same way. A
+/// survivor therefore always finds its parent's new position through its own
+/// parent link, and patches the parent's slot.
+///
+/// Survivors between two dead genes keep their order and move by the same
+/// distance, so they are moved as one block when the next dead gene (or the
+/// end) is reached; until then their links are patched where they still lie.
+/// Once the last dead gene is passed (the sweep counts the dead genes still
+/// ahead), the rest is one block: only links that reach back over the
+/// removed genes are patched. The gene index is compacted in the same sweep.
 pub(crate) fn cut_unchecked(graph: &Graph, c: &mut Chromosome, victim: u32) -> Cut {
     let Chromosome { words, index } = c;
     let first = index.partition_point(|&p| p < victim);
@@ -88,38 +94,75 @@ pub(crate) fn cut_unchecked(graph: &Graph, c: &mut Chromosome, victim: u32) -> C
     let slot = word::slot(words[victim]);
     words[parent + word::SLOTS + slot as usize] = 0;
     words[victim] |= word::DEAD;
+    // Survivors not yet moved: old positions `run..r`, bound for `w..`.
     let mut w = victim;
+    let mut run = victim;
     let mut kept = first;
-    for k in first..index.len() {
+    // Dead genes not reached yet.
+    let mut dead_ahead = 1usize;
+    let mut k = first;
+    while dead_ahead > 0 {
         let r = index[k] as usize;
+        k += 1;
         let w0 = words[r];
         let layout = graph.layout(word::node(w0));
         let slots = r + word::SLOTS..r + word::SLOTS + layout.slots as usize;
         if w0 & word::DEAD != 0 {
+            words.copy_within(run..r, w);
+            w += r - run;
+            run = r + layout.gene_words as usize;
+            dead_ahead -= 1;
+            // An empty slot (link 0) "follows" to the gene itself, already
+            // dead: no branch needed.
             for j in slots {
-                if words[j] != 0 {
-                    let child = word::follow(r, words[j]);
-                    words[child] |= word::DEAD;
-                }
+                let child = word::follow(r, words[j]);
+                dead_ahead += usize::from(child != r);
+                words[child] |= word::DEAD;
             }
         } else {
+            // w < run here: the victim lies before.
+            let shift = run - w;
+            let new_pos = r - shift;
             let new_parent = word::follow(r, words[r + word::PARENT]);
+            // An empty slot (link 0) writes into the gene's own parent link,
+            // which is overwritten next: no branch needed.
             for j in slots {
-                if words[j] != 0 {
-                    let child = word::follow(r, words[j]);
-                    words[child + word::PARENT] = word::link(child, w);
-                }
+                let child = word::follow(r, words[j]);
+                words[child + word::PARENT] = word::link(child, new_pos);
             }
-            // w < r here: the victim lies before.
-            let size = layout.gene_words as usize;
-            words.copy_within(r..r + size, w);
-            words[w + word::PARENT] = word::link(w, new_parent);
-            words[new_parent + word::SLOTS + word::slot(w0) as usize] = word::link(new_parent, w);
-            index[kept] = w as u32;
+            words[r + word::PARENT] = word::link(new_pos, new_parent);
+            // A parent in the pending block still lies `shift` further on.
+            let parent_at = if new_parent >= w {
+                new_parent + shift
+            } else {
+                new_parent
+            };
+            words[parent_at + word::SLOTS + word::slot(w0) as usize] =
+                word::link(new_parent, new_pos);
+            index[kept] = new_pos as u32;
             kept += 1;
-            w += size;
         }
     }
+    // The rest moves as one block. Survivors before it wrote their new
+    // positions (< w) into their children's parent links, and parents before
+    // the victim lie below w too; a parent inside the block (≥ run) still
+    // has its old, relative link, which stays right.
+    let shift = run - w;
+    for k in k..index.len() {
+        let r = index[k] as usize;
+        let new_pos = r - shift;
+        let parent_at = word::follow(r, words[r + word::PARENT]);
+        if parent_at < w {
+            words[r + word::PARENT] = word::link(new_pos, parent_at);
+            let slot = word::slot(words[r]) as usize;
+            words[parent_at + word::SLOTS + slot] = word::link(parent_at, new_pos);
+        }
+        index[kept] = new_pos as u32;
+        kept += 1;
+    }
+    let end = words.len();
+    words.copy_within(run..end, w);
+    w += end - run;
     let removed = index.len() - kept;
     words.truncate(w);
     index.truncate(kept);
