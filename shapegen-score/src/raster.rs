@@ -23,6 +23,8 @@ pub struct RasterShape {
     positions: Vec<DVec3>,
     triangles: Vec<[u32; 3]>,
     convex: bool,
+    /// The mesh's boundary as directed edges (see [`boundary_chain`]).
+    boundary: Vec<[u32; 2]>,
 }
 
 impl RasterShape {
@@ -33,8 +35,40 @@ impl RasterShape {
             positions: mesh.positions.iter().map(|p| p.as_dvec3()).collect(),
             triangles: mesh.triangles.clone(),
             convex: Convex::from_mesh(mesh).is_some(),
+            boundary: boundary_chain(mesh),
         })
     }
+}
+
+/// The boundary of the mesh as a chain: every triangle's three directed
+/// edges, summed with opposite directions cancelling, a non-zero sum `m`
+/// giving `|m|` copies of the edge in its direction. Vertices at the same
+/// position count as one. Empty for a closed, consistently oriented mesh.
+fn boundary_chain(mesh: &Mesh) -> Vec<[u32; 2]> {
+    let mut first = std::collections::HashMap::new();
+    let id: Vec<u32> = (0..mesh.positions.len() as u32)
+        .map(|i| {
+            let key = mesh.positions[i as usize].to_array().map(f32::to_bits);
+            *first.entry(key).or_insert(i)
+        })
+        .collect();
+    let mut net = std::collections::BTreeMap::<(u32, u32), i32>::new();
+    for t in &mesh.triangles {
+        for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+            let (a, b) = (id[a as usize], id[b as usize]);
+            if a < b {
+                *net.entry((a, b)).or_default() += 1;
+            } else if b < a {
+                *net.entry((b, a)).or_default() -= 1;
+            }
+        }
+    }
+    let mut chain = Vec::new();
+    for ((a, b), m) in net {
+        let edge = if m > 0 { [a, b] } else { [b, a] };
+        chain.extend(std::iter::repeat_n(edge, m.unsigned_abs() as usize));
+    }
+    chain
 }
 
 /// A run of covered pixels: row `row`, columns `c0..c1` (exclusive).
@@ -57,6 +91,8 @@ pub struct Rasterizer {
     pixels: Vec<DVec2>,
     hull: Vec<DVec2>,
     edges: Vec<Edge>,
+    chain: Vec<(Edge, i32)>,
+    crossings: Vec<(f64, i32)>,
 }
 
 /// A non-horizontal polygon edge: lower end, upper end, dx/dy.
@@ -104,6 +140,27 @@ impl Rasterizer {
         self.pixels.clear();
         self.pixels
             .extend(self.view.iter().map(|v| proj.to_pixel(*v)));
+        if self.view.iter().all(in_range) {
+            // The triangles of one winding, plus where the boundary winds
+            // the other way: the same pixels as every triangle (see
+            // `fill_negative_winding`), for about half the triangles.
+            for t in &shape.triangles {
+                let [a, b, c] = t.map(|i| self.pixels[i as usize]);
+                if (b - a).perp_dot(c - a) > 0.0 {
+                    continue;
+                }
+                fill_triangle(camera, [a, b, c], &mut f);
+            }
+            fill_negative_winding(
+                camera,
+                &self.pixels,
+                &shape.boundary,
+                &mut self.chain,
+                &mut self.crossings,
+                &mut f,
+            );
+            return;
+        }
         for t in &shape.triangles {
             let [a, b, c] = t.map(|i| i as usize);
             if in_range(&self.view[a]) && in_range(&self.view[b]) && in_range(&self.view[c]) {
@@ -221,22 +278,42 @@ fn fill_convex(
         for &(lo, hi, slope) in edges.iter() {
             if lo.y <= yc && yc < hi.y {
                 let x = lo.x + (yc - lo.y) * slope;
-                xl = xl.min(x);
-                xr = xr.max(x);
+                // A NaN crossing is ignored (both comparisons are false).
+                if x < xl {
+                    xl = x;
+                }
+                if x > xr {
+                    xr = x;
+                }
             }
         }
-        if xl < xr {
-            let c0 = ceil(xl.max(-1.0) - 0.5).max(0.0);
-            let c1 = ceil(xr.min(w + 1.0) - 0.5).min(w);
-            if c0 < c1 {
-                f(PixelSpan {
-                    row: r as u32,
-                    c0: c0 as u32,
-                    c1: c1 as u32,
-                });
-            }
-        }
+        emit_row(r, xl, xr, w, f);
         r += 1.0;
+    }
+}
+
+/// Emits the pixels of row `row` whose centres lie in `[xl, xr)`, clamped to
+/// the image width `w`; nothing unless `xl < xr` (so nothing for NaN).
+///
+/// Plain comparisons instead of `f64::min`/`max`: the operands are never
+/// NaN where they are used, and the selects compile to single instructions.
+#[inline]
+fn emit_row(row: f64, xl: f64, xr: f64, w: f64, f: &mut impl FnMut(PixelSpan)) {
+    if xl.partial_cmp(&xr) != Some(std::cmp::Ordering::Less) {
+        return;
+    }
+    let lo = if xl > -1.0 { xl } else { -1.0 };
+    let hi = if xr < w + 1.0 { xr } else { w + 1.0 };
+    let c0 = ceil(lo - 0.5);
+    let c0 = if c0 > 0.0 { c0 } else { 0.0 };
+    let c1 = ceil(hi - 0.5);
+    let c1 = if c1 < w { c1 } else { w };
+    if c0 < c1 {
+        f(PixelSpan {
+            row: row as u32,
+            c0: c0 as u32,
+            c1: c1 as u32,
+        });
     }
 }
 
@@ -278,21 +355,74 @@ fn fill_triangle(camera: &Camera, tri: [DVec2; 3], f: &mut impl FnMut(PixelSpan)
         } else {
             b.x + (yc - b.y) * s_bc
         };
-        // fill_convex's NaN-ignoring min and max.
-        let xl = f64::INFINITY.min(x_long).min(x_short);
-        let xr = f64::NEG_INFINITY.max(x_long).max(x_short);
-        if xl < xr {
-            let c0 = ceil(xl.max(-1.0) - 0.5).max(0.0);
-            let c1 = ceil(xr.min(w + 1.0) - 0.5).min(w);
-            if c0 < c1 {
-                f(PixelSpan {
-                    row: row as u32,
-                    c0: c0 as u32,
-                    c1: c1 as u32,
-                });
+        // As fill_convex: with a NaN crossing, nothing is emitted.
+        let (xl, xr) = if x_long < x_short {
+            (x_long, x_short)
+        } else {
+            (x_short, x_long)
+        };
+        emit_row(row, xl, xr, w, f);
+        row += 1.0;
+    }
+}
+
+/// Fills the pixels around whose centre the projected boundary chain winds
+/// negatively: with the triangles of the other winding, exactly the pixels
+/// of all triangles.
+///
+/// Why: under the half-open centre rule a triangle covers a pixel iff the
+/// winding number of its projected edges around the centre (crossings of
+/// the centre's row at or left of it, +1 for an edge going down the image,
+/// −1 going up) is ±1: +1 if its pixel-space signed area is negative, −1 if
+/// positive. Winding numbers add over edges, and a shared edge's crossings
+/// are the same numbers in both triangles (same lower end, same slope), so
+/// the sum over all triangles is the winding number `W` of the boundary
+/// chain. A pixel that no triangle of the first kind covers therefore lies
+/// in exactly `−W` triangles of the second kind: it is covered iff `W < 0`.
+fn fill_negative_winding(
+    camera: &Camera,
+    pixels: &[DVec2],
+    boundary: &[[u32; 2]],
+    edges: &mut Vec<(Edge, i32)>,
+    crossings: &mut Vec<(f64, i32)>,
+    f: &mut impl FnMut(PixelSpan),
+) {
+    edges.clear();
+    let (mut ymin, mut ymax) = (f64::INFINITY, f64::NEG_INFINITY);
+    for &[p, q] in boundary {
+        let (p, q) = (pixels[p as usize], pixels[q as usize]);
+        if p.y == q.y || !(p.is_finite() && q.is_finite()) {
+            continue;
+        }
+        let (lo, hi, dir) = if p.y < q.y { (p, q, 1) } else { (q, p, -1) };
+        edges.push(((lo, hi, (hi.x - lo.x) / (hi.y - lo.y)), dir));
+        ymin = ymin.min(lo.y);
+        ymax = ymax.max(hi.y);
+    }
+    if edges.is_empty() {
+        return;
+    }
+    let (w, h) = (f64::from(camera.width), f64::from(camera.height));
+    let r0 = ceil(ymin.max(-1.0) - 0.5).max(0.0);
+    let r1 = ceil(ymax.min(h + 1.0) - 0.5).min(h);
+    let mut r = r0;
+    while r < r1 {
+        let yc = r + 0.5;
+        crossings.clear();
+        for &((lo, hi, slope), dir) in edges.iter() {
+            if lo.y <= yc && yc < hi.y {
+                crossings.push((lo.x + (yc - lo.y) * slope, dir));
             }
         }
-        row += 1.0;
+        crossings.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+        let mut winding = 0;
+        for pair in crossings.windows(2) {
+            winding += pair[0].1;
+            if winding < 0 {
+                emit_row(r, pair[0].0, pair[1].0, w, f);
+            }
+        }
+        r += 1.0;
     }
 }
 

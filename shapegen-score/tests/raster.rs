@@ -66,6 +66,57 @@ fn star_prism() -> Mesh {
     }
 }
 
+/// The unit cube without one face: open, so drawn with the boundary rule.
+fn open_box() -> Mesh {
+    let mut m = Mesh::unit_cube();
+    m.triangles.truncate(10);
+    m
+}
+
+/// The star prism without its top: an open, non-convex cup.
+fn open_star() -> Mesh {
+    let mut m = star_prism();
+    m.triangles = m
+        .triangles
+        .chunks(4)
+        .flat_map(|q| [q[0], q[2], q[3]])
+        .collect();
+    m
+}
+
+/// A wavy open sheet, like a leaf blade: 8 × 8 quads, all one way round.
+fn wavy_sheet() -> Mesh {
+    let n = 9u32;
+    let positions = (0..n * n)
+        .map(|i| {
+            let (u, v) = ((i % n) as f32 / 8.0 - 0.5, (i / n) as f32 / 8.0 - 0.5);
+            Vec3::new(u, v, 0.3 * (5.0 * u).sin() * (4.0 * v).cos())
+        })
+        .collect();
+    let mut triangles = Vec::new();
+    for y in 0..n - 1 {
+        for x in 0..n - 1 {
+            let i = y * n + x;
+            triangles.push([i, i + 1, i + n + 1]);
+            triangles.push([i, i + n + 1, i + n]);
+        }
+    }
+    Mesh {
+        positions,
+        triangles,
+    }
+}
+
+/// The star prism with every third triangle turned round: its boundary
+/// chain has edges counted twice.
+fn mixed_orientation() -> Mesh {
+    let mut m = star_prism();
+    for t in m.triangles.iter_mut().step_by(3) {
+        t.swap(1, 2);
+    }
+    m
+}
+
 fn camera() -> impl Strategy<Value = Camera> {
     prop_oneof![
         // Perspective orbits; a near plane of up to 3 clips models that come close.
@@ -107,6 +158,42 @@ proptest! {
         let shapes = [Mesh::unit_cube(), Mesh::trunk(), Mesh::leaf(), two_cubes(), three_cubes(), star_prism()]
             .map(|m| RasterShape::new("shape", &m).unwrap());
         let instances: Vec<(&RasterShape, Affine3A)> = placements.iter().map(|(t, k)| (&shapes[*k], *t)).collect();
+        let mut fast = vec![false; (cam.width * cam.height) as usize];
+        let mut rasterizer = Rasterizer::new();
+        for (shape, t) in &instances {
+            rasterizer.spans(&cam, shape, t, |s| {
+                for c in s.c0..s.c1 {
+                    fast[(s.row * cam.width + c) as usize] = true;
+                }
+            });
+        }
+        let slow = reference_coverage(&cam, &instances);
+        let differ: Vec<usize> = (0..fast.len()).filter(|&i| fast[i] != slow[i]).collect();
+        prop_assert!(differ.is_empty(), "{} pixels differ, e.g. {:?}", differ.len(), &differ[..differ.len().min(5)]);
+    }
+}
+
+/// Open meshes (drawn with one winding's triangles plus the boundary rule
+/// when wholly in the depth range) and the paper's leaf, if the shared data
+/// is present.
+fn open_shapes() -> Vec<RasterShape> {
+    let mut meshes = vec![open_box(), open_star(), wavy_sheet(), mixed_orientation()];
+    if let Some(leaf) = common::shared("data/paper/leaf.obj") {
+        meshes.push(Mesh::load_obj(&leaf).unwrap().normalized());
+    }
+    meshes
+        .iter()
+        .map(|m| RasterShape::new("shape", m).unwrap())
+        .collect()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 96, ..ProptestConfig::default() })]
+
+    #[test]
+    fn open_mesh_silhouettes_equal_ray_casting(cam in camera(), placements in proptest::collection::vec((placement(0.2..2.0, Vec3::splat(-2.0), Vec3::splat(2.0)), 0usize..5), 1..3)) {
+        let shapes = open_shapes();
+        let instances: Vec<(&RasterShape, Affine3A)> = placements.iter().map(|(t, k)| (&shapes[*k % shapes.len()], *t)).collect();
         let mut fast = vec![false; (cam.width * cam.height) as usize];
         let mut rasterizer = Rasterizer::new();
         for (shape, t) in &instances {
