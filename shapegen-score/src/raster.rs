@@ -297,7 +297,7 @@ fn fill_convex(
 ///
 /// Plain comparisons instead of `f64::min`/`max`: the operands are never
 /// NaN where they are used, and the selects compile to single instructions.
-#[inline]
+#[inline(always)]
 fn emit_row(row: f64, xl: f64, xr: f64, w: f64, f: &mut impl FnMut(PixelSpan)) {
     if xl.partial_cmp(&xr) != Some(std::cmp::Ordering::Less) {
         return;
@@ -323,7 +323,7 @@ fn emit_row(row: f64, xl: f64, xr: f64, w: f64, f: &mut impl FnMut(PixelSpan)) {
 /// Sorted by y, the active edges of a row are the long edge a–c and, above
 /// b, the edge a–b, below it b–c; each edge's lower end and slope are those
 /// `fill_convex` uses, so the crossings are the same numbers.
-#[inline]
+#[inline(always)]
 fn fill_triangle(camera: &Camera, tri: [DVec2; 3], f: &mut impl FnMut(PixelSpan)) {
     let [mut a, mut b, mut c] = tri;
     if !(a.is_finite() && b.is_finite() && c.is_finite()) {
