@@ -56,6 +56,7 @@ fn spaceship_fitness() -> Option<VolumeFitness<Spaceship>> {
             mesh: target,
             fill: 1.0,
             outside: 0.0,
+            inside: Default::default(),
         }],
     )
     .ok()?;
@@ -200,6 +201,7 @@ fn bench_score(c: &mut Criterion) {
                     mesh: bunny.clone(),
                     fill: 1.0,
                     outside: 0.0,
+                    inside: Default::default(),
                 };
                 black_box(VolumeScene::new(grid, &[target]).unwrap().target_cells())
             })

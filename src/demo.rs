@@ -92,6 +92,7 @@ pub fn spaceship_target() -> Vec<VolumeTarget> {
                 mesh,
                 fill: 1.0,
                 outside: 0.0,
+                inside: Default::default(),
             }
         })
         .collect()

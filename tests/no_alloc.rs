@@ -78,6 +78,7 @@ where
             mesh: target(),
             fill: 1.0,
             outside: -0.5,
+            inside: Default::default(),
         }],
     )
     .unwrap();

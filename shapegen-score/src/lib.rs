@@ -35,5 +35,5 @@ pub mod voxelize;
 pub use error::ScoreError;
 pub use grid::Grid;
 pub use mesh::Mesh;
-pub use solid::Solid;
+pub use solid::{Inside, Solid};
 pub use voxelize::{Span, Voxelizer};

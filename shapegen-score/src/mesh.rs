@@ -17,6 +17,40 @@ pub struct Mesh {
 }
 
 impl Mesh {
+    /// The boundary of the mesh as a chain: every triangle's three directed
+    /// edges, summed with opposite directions cancelling, a non-zero sum `m`
+    /// giving `|m|` copies of the edge in its direction (vertex indices).
+    /// Vertices at the same position count as one (the first index is
+    /// used). Empty for a closed, consistently oriented mesh; always a
+    /// cycle (every vertex starts as many edges as it ends).
+    #[must_use]
+    pub fn boundary_chain(&self) -> Vec<[u32; 2]> {
+        let mut first = std::collections::HashMap::new();
+        let id: Vec<u32> = (0..self.positions.len() as u32)
+            .map(|i| {
+                let key = self.positions[i as usize].to_array().map(f32::to_bits);
+                *first.entry(key).or_insert(i)
+            })
+            .collect();
+        let mut net = std::collections::BTreeMap::<(u32, u32), i32>::new();
+        for t in &self.triangles {
+            for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                let (a, b) = (id[a as usize], id[b as usize]);
+                if a < b {
+                    *net.entry((a, b)).or_default() += 1;
+                } else if b < a {
+                    *net.entry((b, a)).or_default() -= 1;
+                }
+            }
+        }
+        let mut chain = Vec::new();
+        for ((a, b), m) in net {
+            let edge = if m > 0 { [a, b] } else { [b, a] };
+            chain.extend(std::iter::repeat_n(edge, m.unsigned_abs() as usize));
+        }
+        chain
+    }
+
     /// The axis-aligned unit cube centred at the origin (12 triangles).
     #[must_use]
     pub fn unit_cube() -> Self {

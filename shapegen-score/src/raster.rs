@@ -23,7 +23,7 @@ pub struct RasterShape {
     positions: Vec<DVec3>,
     triangles: Vec<[u32; 3]>,
     convex: bool,
-    /// The mesh's boundary as directed edges (see [`boundary_chain`]).
+    /// The mesh's boundary as directed edges (see [`Mesh::boundary_chain`]).
     boundary: Vec<[u32; 2]>,
 }
 
@@ -35,40 +35,9 @@ impl RasterShape {
             positions: mesh.positions.iter().map(|p| p.as_dvec3()).collect(),
             triangles: mesh.triangles.clone(),
             convex: Convex::from_mesh(mesh).is_some(),
-            boundary: boundary_chain(mesh),
+            boundary: mesh.boundary_chain(),
         })
     }
-}
-
-/// The boundary of the mesh as a chain: every triangle's three directed
-/// edges, summed with opposite directions cancelling, a non-zero sum `m`
-/// giving `|m|` copies of the edge in its direction. Vertices at the same
-/// position count as one. Empty for a closed, consistently oriented mesh.
-fn boundary_chain(mesh: &Mesh) -> Vec<[u32; 2]> {
-    let mut first = std::collections::HashMap::new();
-    let id: Vec<u32> = (0..mesh.positions.len() as u32)
-        .map(|i| {
-            let key = mesh.positions[i as usize].to_array().map(f32::to_bits);
-            *first.entry(key).or_insert(i)
-        })
-        .collect();
-    let mut net = std::collections::BTreeMap::<(u32, u32), i32>::new();
-    for t in &mesh.triangles {
-        for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
-            let (a, b) = (id[a as usize], id[b as usize]);
-            if a < b {
-                *net.entry((a, b)).or_default() += 1;
-            } else if b < a {
-                *net.entry((b, a)).or_default() -= 1;
-            }
-        }
-    }
-    let mut chain = Vec::new();
-    for ((a, b), m) in net {
-        let edge = if m > 0 { [a, b] } else { [b, a] };
-        chain.extend(std::iter::repeat_n(edge, m.unsigned_abs() as usize));
-    }
-    chain
 }
 
 /// A run of covered pixels: row `row`, columns `c0..c1` (exclusive).

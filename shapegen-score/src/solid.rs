@@ -5,6 +5,9 @@
 //! their face planes; any other mesh collects its crossings through a BVH.
 //! Both use `f64` and the same tie rule: a point is inside iff an odd number
 //! of crossings lie at or before it along the line (spans are half-open, `[a, b)`).
+//!
+//! A mesh with holes has no inside by parity; [`Inside::WindingNumber`]
+//! decides by the generalized winding number instead (see [`Inside`]).
 
 use std::collections::HashMap;
 use std::time::Duration;
@@ -23,18 +26,47 @@ use crate::mesh::Mesh;
 pub enum Solid {
     /// A convex mesh, as the intersection of its face half-spaces.
     Convex(Convex),
-    /// Any closed mesh, queried through a BVH.
+    /// Any other mesh, queried through a BVH.
     Mesh(MeshSolid),
 }
 
+/// How the inside of a mesh is decided.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Inside {
+    /// Ray parity (the paper's rule): a point is inside iff the line through
+    /// it crosses the surface an odd number of times before it. Exact for
+    /// closed meshes; a mesh with holes gets streaks along the rows.
+    #[default]
+    Parity,
+    /// The generalized winding number `w(p) = Σ Ω_t(p) / 4π` over the
+    /// triangles' solid angles (Jacobson et al. 2013): inside iff `|w| ≥ ½`.
+    /// Equal to parity for closed, consistently oriented meshes; degrades
+    /// gracefully for holes and open sheets. Costs one solid angle per
+    /// boundary edge per cell of the mesh's bounding box (computed exactly:
+    /// signed crossings plus a cone closing the holes), so meant for
+    /// targets more than for model shapes.
+    WindingNumber,
+}
+
 impl Solid {
-    /// A solid for `mesh` (named `name` in errors): convex if it is, else BVH-backed.
+    /// A solid for `mesh` (named `name` in errors): convex if it is, else
+    /// BVH-backed; inside by ray parity.
     pub fn new(name: &str, mesh: &Mesh) -> Result<Self, ScoreError> {
+        Self::with_inside(name, mesh, Inside::Parity)
+    }
+
+    /// A solid for `mesh` whose inside is decided by `inside`. A closed
+    /// convex mesh becomes [`Solid::Convex`] (both rules agree on it).
+    pub fn with_inside(name: &str, mesh: &Mesh, inside: Inside) -> Result<Self, ScoreError> {
         check(name, mesh)?;
-        Ok(match Convex::from_mesh(mesh) {
-            Some(c) => Self::Convex(c),
-            None => Self::Mesh(MeshSolid::new(mesh)),
-        })
+        if let Some(c) = Convex::from_mesh(mesh) {
+            return Ok(Self::Convex(c));
+        }
+        let mut solid = MeshSolid::new(mesh);
+        if inside == Inside::WindingNumber {
+            solid.winding = Some(Winding::new(mesh, &mesh.boundary_chain()));
+        }
+        Ok(Self::Mesh(solid))
     }
 
     /// Local-space bounds (min, max).
@@ -99,10 +131,16 @@ pub struct Convex {
 }
 
 impl Convex {
-    /// The half-space form of `mesh` if it is convex (every vertex on the
-    /// inner side of every face plane, within a relative 1e-6), else `None`.
+    /// The half-space form of `mesh` if it is closed (an empty
+    /// [boundary chain](Mesh::boundary_chain)) and convex (every vertex on
+    /// the inner side of every face plane, within a relative 1e-6), else
+    /// `None`. An open mesh is not the intersection of its face planes: a
+    /// box without two opposite faces is a tube.
     #[must_use]
     pub fn from_mesh(mesh: &Mesh) -> Option<Self> {
+        if !mesh.boundary_chain().is_empty() {
+            return None;
+        }
         let pts: Vec<DVec3> = mesh.positions.iter().map(|p| p.as_dvec3()).collect();
         let (lo, hi) = bounds(&pts);
         let eps = 1e-6 * (hi - lo).max_element().max(1e-12);
@@ -192,6 +230,50 @@ pub struct MeshSolid {
     bvh: Bvh2,
     bounds: (DVec3, DVec3),
     boundary_edges: usize,
+    /// Present in [`Inside::WindingNumber`] mode.
+    winding: Option<Winding>,
+}
+
+/// What the winding-number inside test needs beyond the mesh.
+///
+/// The mesh `M` minus the cone `K` from one apex over its boundary chain is
+/// closed (`∂K = ∂M`), so its winding number is the signed count of a
+/// line's crossings before the point; hence `w_M = w_{M−K} + w_K`, where
+/// `w_K` sums one solid angle per boundary edge. The cone is stored
+/// reversed (`−K`), so that `M` and `−K` together are a consistently
+/// oriented closed surface for the crossing tie rule.
+#[derive(Clone, Debug)]
+pub struct Winding {
+    /// Triangles `(apex, b, a)` for every boundary edge `a → b`.
+    reversed_cone: Vec<[DVec3; 3]>,
+}
+
+impl Winding {
+    fn new(mesh: &Mesh, chain: &[[u32; 2]]) -> Self {
+        let p = |i: u32| mesh.positions[i as usize].as_dvec3();
+        let apex = chain.iter().map(|e| p(e[0])).sum::<DVec3>() / chain.len().max(1) as f64;
+        Self {
+            reversed_cone: chain.iter().map(|&[a, b]| [apex, p(b), p(a)]).collect(),
+        }
+    }
+
+    /// The reversed cone's triangles, in the mesh's local frame.
+    #[must_use]
+    pub fn reversed_cone(&self) -> &[[DVec3; 3]] {
+        &self.reversed_cone
+    }
+}
+
+/// The signed solid angle of triangle `t` seen from `p` (Van Oosterom and
+/// Strackee 1983): positive when `t` turns counter-clockwise seen from `p`,
+/// so a closed outward-facing mesh sums to `4π` inside and `0` outside.
+#[must_use]
+pub fn solid_angle(t: &[DVec3; 3], p: DVec3) -> f64 {
+    let (a, b, c) = (t[0] - p, t[1] - p, t[2] - p);
+    let (la, lb, lc) = (a.length(), b.length(), c.length());
+    let det = a.dot(b.cross(c));
+    let den = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+    2.0 * det.atan2(den)
 }
 
 impl std::fmt::Debug for MeshSolid {
@@ -201,6 +283,10 @@ impl std::fmt::Debug for MeshSolid {
             .field("bvh_nodes", &self.bvh.nodes.len())
             .field("bounds", &self.bounds)
             .field("boundary_edges", &self.boundary_edges)
+            .field(
+                "winding_cone",
+                &self.winding.as_ref().map(|w| w.reversed_cone.len()),
+            )
             .finish()
     }
 }
@@ -242,7 +328,53 @@ impl MeshSolid {
             bvh,
             bounds,
             boundary_edges: boundary_edges(mesh),
+            winding: None,
         }
+    }
+
+    /// The winding-number data, in [`Inside::WindingNumber`] mode.
+    #[must_use]
+    pub fn winding(&self) -> Option<&Winding> {
+        self.winding.as_ref()
+    }
+
+    /// The triangles, in the local frame.
+    pub fn triangles(&self) -> impl ExactSizeIterator<Item = &[DVec3; 3]> {
+        self.tris.iter().map(|t| &t.v)
+    }
+
+    /// Appends `(t, s)` for every crossing of the line `o + t v`,
+    /// `t ∈ [0, len]`, with the mesh and (in winding-number mode) its
+    /// reversed boundary cone, sorted by `t`; `s = ±1` is the sign of `v`
+    /// along the crossed triangle's normal (+1 leaving an outward surface).
+    pub fn signed_crossings(&self, o: DVec3, v: DVec3, len: f64, out: &mut Vec<(f64, f64)>) {
+        let start = out.len();
+        let sign = |t: &[DVec3; 3]| v.dot((t[1] - t[0]).cross(t[2] - t[0])).signum();
+        let ray = self.ray(o, v, len);
+        self.bvh.ray_traverse_anyhit(ray, |_, id| {
+            let tri = &self.tris[id].v;
+            if let Some(t) = cross(tri, o, v) {
+                out.push((t, sign(tri)));
+            }
+        });
+        if let Some(w) = &self.winding {
+            for tri in &w.reversed_cone {
+                if let Some(t) = cross(tri, o, v) {
+                    out.push((t, sign(tri)));
+                }
+            }
+        }
+        out[start..].sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+    }
+
+    fn ray(&self, o: DVec3, v: DVec3, len: f64) -> Ray {
+        let margin = 1e-3 * len.max(1.0);
+        Ray::new(
+            Vec3A::from(o.as_vec3()),
+            Vec3A::from(v.as_vec3()),
+            -margin as f32,
+            (len + margin) as f32,
+        )
     }
 
     /// Edges used by exactly one triangle after welding vertices by position:
@@ -255,13 +387,7 @@ impl MeshSolid {
     /// See [`Solid::crossings`].
     pub fn crossings(&self, o: DVec3, v: DVec3, len: f64, out: &mut Vec<f64>) {
         let start = out.len();
-        let margin = 1e-3 * len.max(1.0);
-        let ray = Ray::new(
-            Vec3A::from(o.as_vec3()),
-            Vec3A::from(v.as_vec3()),
-            -margin as f32,
-            (len + margin) as f32,
-        );
+        let ray = self.ray(o, v, len);
         self.bvh.ray_traverse_anyhit(ray, |_, id| {
             if let Some(t) = cross(&self.tris[id].v, o, v) {
                 out.push(t);

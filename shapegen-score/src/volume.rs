@@ -14,7 +14,7 @@ use glam::Affine3A;
 use crate::error::ScoreError;
 use crate::grid::Grid;
 use crate::mesh::Mesh;
-use crate::solid::Solid;
+use crate::solid::{Inside, Solid};
 use crate::voxelize::{Span, Voxelizer};
 
 /// One volume target: a closed mesh in world coordinates and its weights.
@@ -28,6 +28,9 @@ pub struct VolumeTarget {
     pub fill: f64,
     /// `w̃_i`: weight of each model cell outside the target (negative = avoid).
     pub outside: f64,
+    /// How the mesh's inside is decided (ray parity unless told otherwise;
+    /// [`Inside::WindingNumber`] for meshes with holes).
+    pub inside: Inside,
 }
 
 /// A voxel grid with targets combined into one weight per cell.
@@ -60,12 +63,13 @@ impl VolumeScene {
                     t.name
                 )));
             }
-            let solid = Solid::new(&t.name, &t.mesh)?;
+            let solid = Solid::with_inside(&t.name, &t.mesh, t.inside)?;
             if let Solid::Mesh(m) = &solid
                 && m.boundary_edges() > 0
+                && t.inside == Inside::Parity
             {
                 warnings.push(format!(
-                    "target `{}` is not watertight ({} boundary edges): its inside is decided by ray parity and may have holes or streaks",
+                    "target `{}` is not watertight ({} boundary edges): its inside is decided by ray parity and may have holes or streaks (the winding-number rule copes with holes)",
                     t.name,
                     m.boundary_edges()
                 ));

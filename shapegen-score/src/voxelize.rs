@@ -23,7 +23,7 @@
 use glam::{Affine3A, DAffine3, DMat3, DVec3};
 
 use crate::grid::Grid;
-use crate::solid::Solid;
+use crate::solid::{Solid, solid_angle};
 
 /// A run of inside cells: row `(y, z)` of the lattice, cells `x0..x1` (exclusive).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -43,6 +43,8 @@ pub struct Span {
 pub struct Voxelizer {
     crossings: Vec<f64>,
     planes: Vec<RowPlane>,
+    signed: Vec<(f64, f64)>,
+    cone: Vec<[DVec3; 3]>,
 }
 
 /// A convex solid's face plane, rewritten for the rows of one instance:
@@ -191,6 +193,12 @@ impl Voxelizer {
         let Some(r) = rows(grid, solid, transform) else {
             return;
         };
+        if let Solid::Mesh(m) = solid
+            && let Some(w) = m.winding()
+        {
+            self.winding_spans(grid, m, w, transform, &r, f);
+            return;
+        }
         if let Solid::Convex(c) = solid {
             row_planes(c, &r, &mut self.planes);
         }
@@ -215,6 +223,71 @@ impl Voxelizer {
                     if x0 < x1 {
                         f(Span { y, z, x0, x1 });
                     }
+                }
+            }
+        }
+    }
+}
+
+impl Voxelizer {
+    /// [`Inside::WindingNumber`](crate::solid::Inside) spans: cell by cell
+    /// along each row of the instance's bounding box, `w = −σ Σ s` over the
+    /// signed crossings at or before the centre (`σ` the sign of the
+    /// transform's determinant: crossings are found in the local frame)
+    /// minus the reversed cone's solid angles over `4π` (in the world
+    /// frame); inside iff `|w| ≥ ½`.
+    fn winding_spans(
+        &mut self,
+        grid: &Grid,
+        m: &crate::solid::MeshSolid,
+        w: &crate::solid::Winding,
+        transform: &Affine3A,
+        r: &Rows,
+        mut f: impl FnMut(Span),
+    ) {
+        let to_world = to_f64(transform);
+        let sigma = to_world.matrix3.determinant().signum();
+        self.cone.clear();
+        self.cone.extend(
+            w.reversed_cone()
+                .iter()
+                .map(|t| t.map(|p| to_world.transform_point3(p))),
+        );
+        let x_begin = grid.first_at_or_after(0, r.x_start);
+        let x_end = grid.first_at_or_after(0, r.x_start + r.len) + 1;
+        for z in r.z.clone() {
+            let wz = grid.center_along(2, z);
+            for y in r.y.clone() {
+                let wy = grid.center_along(1, y);
+                self.signed.clear();
+                m.signed_crossings(r.origin(wy, wz), r.dir, r.len, &mut self.signed);
+                let (mut k, mut count) = (0, 0.0);
+                let mut open = None;
+                for x in x_begin..x_end {
+                    let xc = grid.center_along(0, x);
+                    while k < self.signed.len() && r.x_start + self.signed[k].0 <= xc {
+                        count += self.signed[k].1;
+                        k += 1;
+                    }
+                    let p = DVec3::new(xc, wy, wz);
+                    let cone: f64 = self.cone.iter().map(|t| solid_angle(t, p)).sum();
+                    let wn = -sigma * count - cone / (4.0 * std::f64::consts::PI);
+                    match (wn.abs() >= 0.5, open) {
+                        (true, None) => open = Some(x),
+                        (false, Some(x0)) => {
+                            f(Span { y, z, x0, x1: x });
+                            open = None;
+                        }
+                        _ => {}
+                    }
+                }
+                if let Some(x0) = open {
+                    f(Span {
+                        y,
+                        z,
+                        x0,
+                        x1: x_end,
+                    });
                 }
             }
         }
@@ -303,6 +376,42 @@ pub mod reference {
                     if before % 2 == 1 && before < crossings.len() {
                         out.push(IVec3::new(x as i32, y as i32, z as i32));
                     }
+                }
+            }
+        }
+        out
+    }
+
+    /// The generalized winding number of every cell of the instance's row
+    /// box (the cells [`Voxelizer::spans`](super::Voxelizer::spans) looks
+    /// at), summing the solid angles of *every* triangle of a mesh solid in
+    /// the world frame: no crossings, no cone. Convex solids give nothing.
+    #[must_use]
+    pub fn winding_numbers(grid: &Grid, solid: &Solid, transform: &Affine3A) -> Vec<(IVec3, f64)> {
+        let (Solid::Mesh(m), Some(r)) = (solid, rows(grid, solid, transform)) else {
+            return Vec::new();
+        };
+        let to_world = super::to_f64(transform);
+        let tris: Vec<[glam::DVec3; 3]> = m
+            .triangles()
+            .map(|t| t.map(|p| to_world.transform_point3(p)))
+            .collect();
+        let x_end = grid.first_at_or_after(0, r.x_start + r.len) + 1;
+        let x_begin = grid.first_at_or_after(0, r.x_start);
+        let mut out = Vec::new();
+        for z in r.z.clone() {
+            for y in r.y.clone() {
+                for x in x_begin..x_end {
+                    let p = glam::DVec3::new(
+                        grid.center_along(0, x),
+                        grid.center_along(1, y),
+                        grid.center_along(2, z),
+                    );
+                    let w: f64 = tris.iter().map(|t| crate::solid::solid_angle(t, p)).sum();
+                    out.push((
+                        IVec3::new(x as i32, y as i32, z as i32),
+                        w / (4.0 * std::f64::consts::PI),
+                    ));
                 }
             }
         }

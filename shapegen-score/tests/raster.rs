@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::placement;
+use common::{mixed_orientation, open_box, open_star, placement, star_prism, tube, wavy_sheet};
 use glam::{Affine3A, DVec3, Vec3};
 use proptest::prelude::*;
 use shapegen_score::Mesh;
@@ -36,84 +36,6 @@ fn three_cubes() -> Mesh {
     );
     m.triangles
         .extend(cube.triangles.iter().map(|t| t.map(|i| i + n)));
-    m
-}
-
-/// A closed star-shaped prism: non-convex, 10 points, 60 triangles.
-fn star_prism() -> Mesh {
-    let n = 10u32;
-    let mut positions = Vec::new();
-    for z in [-0.3f32, 0.3] {
-        positions.push(Vec3::new(0.0, 0.0, z));
-        for i in 0..n {
-            let a = i as f32 / n as f32 * std::f32::consts::TAU;
-            let r = if i % 2 == 0 { 1.0 } else { 0.4 };
-            positions.push(Vec3::new(r * a.cos(), r * a.sin(), z));
-        }
-    }
-    let top = n + 1;
-    let mut triangles = Vec::new();
-    for i in 0..n {
-        let (a, b) = (1 + i, 1 + (i + 1) % n);
-        triangles.push([0, b, a]);
-        triangles.push([top, top + a, top + b]);
-        triangles.push([a, b, top + a]);
-        triangles.push([b, top + b, top + a]);
-    }
-    Mesh {
-        positions,
-        triangles,
-    }
-}
-
-/// The unit cube without one face: open, so drawn with the boundary rule.
-fn open_box() -> Mesh {
-    let mut m = Mesh::unit_cube();
-    m.triangles.truncate(10);
-    m
-}
-
-/// The star prism without its top: an open, non-convex cup.
-fn open_star() -> Mesh {
-    let mut m = star_prism();
-    m.triangles = m
-        .triangles
-        .chunks(4)
-        .flat_map(|q| [q[0], q[2], q[3]])
-        .collect();
-    m
-}
-
-/// A wavy open sheet, like a leaf blade: 8 × 8 quads, all one way round.
-fn wavy_sheet() -> Mesh {
-    let n = 9u32;
-    let positions = (0..n * n)
-        .map(|i| {
-            let (u, v) = ((i % n) as f32 / 8.0 - 0.5, (i / n) as f32 / 8.0 - 0.5);
-            Vec3::new(u, v, 0.3 * (5.0 * u).sin() * (4.0 * v).cos())
-        })
-        .collect();
-    let mut triangles = Vec::new();
-    for y in 0..n - 1 {
-        for x in 0..n - 1 {
-            let i = y * n + x;
-            triangles.push([i, i + 1, i + n + 1]);
-            triangles.push([i, i + n + 1, i + n]);
-        }
-    }
-    Mesh {
-        positions,
-        triangles,
-    }
-}
-
-/// The star prism with every third triangle turned round: its boundary
-/// chain has edges counted twice.
-fn mixed_orientation() -> Mesh {
-    let mut m = star_prism();
-    for t in m.triangles.iter_mut().step_by(3) {
-        t.swap(1, 2);
-    }
     m
 }
 
@@ -177,7 +99,13 @@ proptest! {
 /// when wholly in the depth range) and the paper's leaf, if the shared data
 /// is present.
 fn open_shapes() -> Vec<RasterShape> {
-    let mut meshes = vec![open_box(), open_star(), wavy_sheet(), mixed_orientation()];
+    let mut meshes = vec![
+        open_box(),
+        open_star(),
+        wavy_sheet(),
+        mixed_orientation(),
+        tube(),
+    ];
     if let Some(leaf) = common::shared("data/paper/leaf.obj") {
         meshes.push(Mesh::load_obj(&leaf).unwrap().normalized());
     }
@@ -191,7 +119,7 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 96, ..ProptestConfig::default() })]
 
     #[test]
-    fn open_mesh_silhouettes_equal_ray_casting(cam in camera(), placements in proptest::collection::vec((placement(0.2..2.0, Vec3::splat(-2.0), Vec3::splat(2.0)), 0usize..5), 1..3)) {
+    fn open_mesh_silhouettes_equal_ray_casting(cam in camera(), placements in proptest::collection::vec((placement(0.2..2.0, Vec3::splat(-2.0), Vec3::splat(2.0)), 0usize..6), 1..3)) {
         let shapes = open_shapes();
         let instances: Vec<(&RasterShape, Affine3A)> = placements.iter().map(|(t, k)| (&shapes[*k % shapes.len()], *t)).collect();
         let mut fast = vec![false; (cam.width * cam.height) as usize];

@@ -35,6 +35,7 @@ fn scene() -> VolumeScene {
             mesh,
             fill: 2.0,
             outside: -1.0,
+            inside: Default::default(),
         }],
     )
     .unwrap()
@@ -161,6 +162,7 @@ fn non_finite_weights_and_bad_meshes_are_errors() {
         mesh: Mesh::unit_cube(),
         fill: f64::NAN,
         outside: 0.0,
+        inside: Default::default(),
     };
     assert!(
         VolumeScene::new(grid(), &[bad])
@@ -173,6 +175,7 @@ fn non_finite_weights_and_bad_meshes_are_errors() {
         mesh: Mesh::default(),
         fill: 1.0,
         outside: 0.0,
+        inside: Default::default(),
     };
     assert!(
         VolumeScene::new(grid(), &[empty])

@@ -5,10 +5,12 @@ mod common;
 
 use std::collections::HashSet;
 
-use common::{placement, shared};
+use common::{
+    mixed_orientation, open_box, open_star, placement, shared, star_prism, tube, wavy_sheet,
+};
 use glam::{Affine3A, IVec3, UVec3, Vec3};
 use proptest::prelude::*;
-use shapegen_score::solid::MeshSolid;
+use shapegen_score::solid::{Inside, MeshSolid};
 use shapegen_score::voxelize::reference;
 use shapegen_score::{Grid, Mesh, Solid, Voxelizer};
 
@@ -110,4 +112,71 @@ fn a_unit_cube_on_the_lattice_fills_exactly_its_cells() {
     assert_eq!(cells(&g, &solid, &t).len(), 4 * 5 * 5);
     // A singular transform covers nothing.
     assert!(cells(&g, &solid, &Affine3A::from_scale(Vec3::new(1.0, 0.0, 1.0))).is_empty());
+}
+
+/// Cells inside by the brute-force winding number (`|w| ≥ ½`), and the
+/// cells too close to the threshold to call (`||w| − ½| < 1e-9`).
+fn winding_reference(g: &Grid, solid: &Solid, t: &Affine3A) -> (HashSet<IVec3>, HashSet<IVec3>) {
+    let (mut inside, mut ties) = (HashSet::new(), HashSet::new());
+    for (cell, w) in reference::winding_numbers(g, solid, t) {
+        if (w.abs() - 0.5).abs() < 1e-9 {
+            ties.insert(cell);
+        } else if w.abs() >= 0.5 {
+            inside.insert(cell);
+        }
+    }
+    (inside, ties)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    /// Winding-number mode on open meshes (a box without a face, a cup, a
+    /// wavy sheet, a mesh with flipped triangles), placed at random and
+    /// sometimes mirrored: the fast path (signed crossings plus the cone
+    /// over the holes) equals the brute-force sum of every triangle's solid
+    /// angle, except for centres at the ½ threshold.
+    #[test]
+    fn winding_number_spans_equal_the_solid_angle_sum(t in placement(0.5..2.5, Vec3::splat(-1.0), Vec3::splat(1.0)), k in 0usize..5, mirror in any::<bool>()) {
+        let mesh = [open_box(), open_star(), wavy_sheet(), mixed_orientation(), tube()][k].clone();
+        let solid = Solid::with_inside("open", &mesh, Inside::WindingNumber).unwrap();
+        let Solid::Mesh(m) = &solid else { panic!("an open mesh became convex") };
+        prop_assert!(m.winding().is_some_and(|w| !w.reversed_cone().is_empty()));
+        let t = if mirror { t * Affine3A::from_scale(Vec3::new(-1.0, 1.0, 1.0)) } else { t };
+        let g = Grid::cube(Vec3::splat(-2.0), Vec3::splat(2.0), 14).unwrap();
+        let fast = cells(&g, &solid, &t);
+        let (slow, ties) = winding_reference(&g, &solid, &t);
+        let differ: Vec<&IVec3> = fast.symmetric_difference(&slow).filter(|c| !ties.contains(*c)).collect();
+        prop_assert!(differ.is_empty(), "{} cells differ, e.g. {:?}", differ.len(), &differ[..differ.len().min(4)]);
+    }
+
+    /// On closed meshes both modes give the same cells.
+    #[test]
+    fn winding_number_equals_parity_on_closed_meshes(t in placement(0.5..2.5, Vec3::splat(-1.0), Vec3::splat(1.0))) {
+        let mesh = star_prism();
+        let parity = Solid::new("star", &mesh).unwrap();
+        let winding = Solid::with_inside("star", &mesh, Inside::WindingNumber).unwrap();
+        let Solid::Mesh(m) = &winding else { panic!("the star prism is not convex") };
+        prop_assert!(m.winding().is_some_and(|w| w.reversed_cone().is_empty()));
+        let g = Grid::cube(Vec3::splat(-2.0), Vec3::splat(2.0), 20).unwrap();
+        prop_assert_eq!(cells(&g, &parity, &t), cells(&g, &winding, &t));
+    }
+}
+
+/// A box without one face, in both modes: every centre sees the hole under
+/// less than half the sphere, so the winding number fills the whole box;
+/// parity loses the rows that cross the surface once.
+#[test]
+fn an_open_box_is_filled_by_the_winding_number() {
+    let mesh = open_box();
+    let g = Grid::cube(Vec3::splat(-0.5), Vec3::splat(0.5), 16).unwrap();
+    let winding = Solid::with_inside("box", &mesh, Inside::WindingNumber).unwrap();
+    assert_eq!(cells(&g, &winding, &Affine3A::IDENTITY).len(), 16 * 16 * 16);
+    let parity = Solid::new("box", &mesh).unwrap();
+    assert!(
+        matches!(parity, Solid::Mesh(_)),
+        "an open box is not convex"
+    );
+    let n = cells(&g, &parity, &Affine3A::IDENTITY).len();
+    assert!(n < 16 * 16 * 16, "{n} cells by parity");
 }

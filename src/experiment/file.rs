@@ -96,6 +96,17 @@ pub(super) struct VolumeTargetFile {
     pub builtin: Option<Spanned<String>>,
     pub fill: Option<f64>,
     pub outside: Option<f64>,
+    pub inside: Option<InsideFile>,
+}
+
+/// `volume.targets[i].inside`: how a target mesh's inside is decided.
+#[derive(Debug, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum InsideFile {
+    /// Ray parity (watertight meshes).
+    Parity,
+    /// The generalized winding number (meshes with holes).
+    Winding,
 }
 
 /// `[image]`.

@@ -53,6 +53,7 @@
 //! mesh = "${data}/spaceship_target.obj"   # or builtin = "ship"
 //! fill = 1.0                # weight of a covered target cell
 //! outside = 0.0             # weight of a model cell outside this target
+//! # inside = "winding"      # a mesh with holes: generalized winding number, not ray parity
 //!
 //! # [image]                 # ... or an image scene
 //! # width = 800

@@ -9,8 +9,8 @@ use toml::Spanned;
 
 use super::error::Source;
 use super::file::{
-    BudgetFile, DelayedRejectionFile, EdgeMatchFile, ExperimentFile, ImageFile, ScoreForm,
-    VolumeFile,
+    BudgetFile, DelayedRejectionFile, EdgeMatchFile, ExperimentFile, ImageFile, InsideFile,
+    ScoreForm, VolumeFile,
 };
 use super::problem::{ModelProblem, Problem};
 use super::{Experiment, ExperimentError, LoadOptions, Method, MethodConfig, MethodParams};
@@ -27,6 +27,7 @@ use crate::score::image::ImageTarget;
 use crate::score::mesh::Mesh;
 use crate::score::obj::ShapeMeshes;
 use crate::score::score::{ImageScore, ImageTargets, ModelFitness, OverlapCount, VolumeScore};
+use crate::score::solid::Inside;
 use crate::score::volume::{VolumeScene, VolumeTarget};
 
 /// The generators an experiment may name.
@@ -452,6 +453,10 @@ fn volume_scene(
         let tf = t.get_ref();
         let fill = tf.fill.unwrap_or(1.0);
         let outside = tf.outside.unwrap_or(0.0);
+        let inside = match tf.inside {
+            None | Some(InsideFile::Parity) => Inside::Parity,
+            Some(InsideFile::Winding) => Inside::WindingNumber,
+        };
         if !(fill.is_finite() && outside.is_finite()) {
             return Err(ctx.err(&key, t, "fill and outside must be finite"));
         }
@@ -465,12 +470,14 @@ fn volume_scene(
                     mesh: m,
                     fill,
                     outside,
+                    inside,
                 });
             }
             (None, Some(b)) if b.get_ref() == "ship" => {
                 targets.extend(spaceship_target().into_iter().map(|t| VolumeTarget {
                     fill,
                     outside,
+                    inside,
                     ..t
                 }));
             }

@@ -101,6 +101,11 @@ fn errors_name_the_key_and_the_line() {
     assert_eq!(key, "volume");
     let (line, key, _) = invalid(&MINIMAL.replace("[score]", "[score"));
     assert_eq!((line, key.as_str()), (3, ""));
+    // An unknown inside rule.
+    let (line, key, msg) =
+        invalid(&MINIMAL.replace("builtin = \"ship\"", "builtin = \"ship\"\ninside = \"odd\""));
+    assert_eq!((line, key.as_str()), (11, "volume.targets[0].inside"));
+    assert!(msg.contains("parity") && msg.contains("winding"), "{msg}");
     // Both scenes.
     let image = "[image]\n[[image.targets]]\npng = \"x.png\"\ncamera = { phi = 0.0, theta = 0.0, r = 5.0, look_at = [0.0, 0.0, 0.0] }\n";
     let (_, key, _) = invalid(&format!("{MINIMAL}{image}"));
@@ -163,5 +168,73 @@ fn the_paper_experiments_load() {
             "tree_avoid",
             "tree_sketch"
         ]
+    );
+}
+
+#[test]
+fn a_target_with_holes_may_use_the_winding_number() {
+    // A box [-3, 3] × [-3, 3] × [0, 10] without its +x side.
+    let dir = std::env::temp_dir().join(format!("shapegen-inside-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let obj = dir.join("open_box.obj");
+    let mut text = String::new();
+    for z in [0.0, 10.0] {
+        for (x, y) in [(-3.0, -3.0), (3.0, -3.0), (3.0, 3.0), (-3.0, 3.0)] {
+            text += &format!("v {x} {y} {z}\n");
+        }
+    }
+    // Bottom, top and three sides, facing out.
+    for f in [
+        [1, 3, 2],
+        [1, 4, 3],
+        [5, 6, 7],
+        [5, 7, 8],
+        [1, 2, 6],
+        [1, 6, 5],
+        [3, 4, 8],
+        [3, 8, 7],
+        [4, 1, 5],
+        [4, 5, 8],
+    ] {
+        text += &format!("f {} {} {}\n", f[0], f[1], f[2]);
+    }
+    std::fs::write(&obj, text).unwrap();
+    let file = MINIMAL.replace(
+        "builtin = \"ship\"",
+        &format!("mesh = {:?}", obj.display().to_string()),
+    );
+    let parity = load(&file).unwrap();
+    let winding = load(&file.replace(
+        "[[volume.targets]]\n",
+        "[[volume.targets]]\ninside = \"winding\"\n",
+    ))
+    .unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    // Cells of 1 × 0.5 × 2 over [-5, 5]² × [-2, 18]: the box holds the
+    // centres x ∈ {-2.5 .. 2.5} (6), y ∈ {-2.75 .. 2.75} (12), z ∈ {1 .. 9} (5).
+    assert!(
+        winding.scene().contains("with 360 target cells"),
+        "{}",
+        winding.scene()
+    );
+    // Parity: every row (along x) crosses the open box once, so it is empty.
+    assert!(
+        parity.scene().contains("with 0 target cells"),
+        "{}",
+        parity.scene()
+    );
+    assert!(
+        parity
+            .warnings()
+            .iter()
+            .any(|w| w.contains("not watertight")),
+        "{:?}",
+        parity.warnings()
+    );
+    assert!(
+        winding
+            .warnings()
+            .iter()
+            .all(|w| !w.contains("not watertight"))
     );
 }

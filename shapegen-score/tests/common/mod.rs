@@ -6,6 +6,7 @@ use std::path::PathBuf;
 
 use glam::{Affine3A, Quat, Vec3};
 use proptest::prelude::*;
+use shapegen_score::Mesh;
 
 /// A random placement: any rotation, a non-uniform scale with components in
 /// `scale`, and a translation in the box `[lo, hi]`.
@@ -27,4 +28,90 @@ pub fn shared(rel: &str) -> Option<PathBuf> {
         .join("../../shared")
         .join(rel);
     p.exists().then_some(p)
+}
+
+/// A closed star-shaped prism: non-convex, 10 points, 60 triangles.
+pub fn star_prism() -> Mesh {
+    let n = 10u32;
+    let mut positions = Vec::new();
+    for z in [-0.3f32, 0.3] {
+        positions.push(Vec3::new(0.0, 0.0, z));
+        for i in 0..n {
+            let a = i as f32 / n as f32 * std::f32::consts::TAU;
+            let r = if i % 2 == 0 { 1.0 } else { 0.4 };
+            positions.push(Vec3::new(r * a.cos(), r * a.sin(), z));
+        }
+    }
+    let top = n + 1;
+    let mut triangles = Vec::new();
+    for i in 0..n {
+        let (a, b) = (1 + i, 1 + (i + 1) % n);
+        triangles.push([0, b, a]);
+        triangles.push([top, top + a, top + b]);
+        triangles.push([a, b, top + a]);
+        triangles.push([b, top + b, top + a]);
+    }
+    Mesh {
+        positions,
+        triangles,
+    }
+}
+
+/// The unit cube without one face: open, so drawn with the boundary rule.
+pub fn open_box() -> Mesh {
+    let mut m = Mesh::unit_cube();
+    m.triangles.truncate(10);
+    m
+}
+
+/// The unit cube without its ±z faces: a square tube, open at both ends
+/// (convex vertices, but not a convex solid).
+pub fn tube() -> Mesh {
+    let mut m = Mesh::unit_cube();
+    m.triangles.drain(0..4);
+    m
+}
+
+/// The star prism without its top: an open, non-convex cup.
+pub fn open_star() -> Mesh {
+    let mut m = star_prism();
+    m.triangles = m
+        .triangles
+        .chunks(4)
+        .flat_map(|q| [q[0], q[2], q[3]])
+        .collect();
+    m
+}
+
+/// A wavy open sheet, like a leaf blade: 8 × 8 quads, all one way round.
+pub fn wavy_sheet() -> Mesh {
+    let n = 9u32;
+    let positions = (0..n * n)
+        .map(|i| {
+            let (u, v) = ((i % n) as f32 / 8.0 - 0.5, (i / n) as f32 / 8.0 - 0.5);
+            Vec3::new(u, v, 0.3 * (5.0 * u).sin() * (4.0 * v).cos())
+        })
+        .collect();
+    let mut triangles = Vec::new();
+    for y in 0..n - 1 {
+        for x in 0..n - 1 {
+            let i = y * n + x;
+            triangles.push([i, i + 1, i + n + 1]);
+            triangles.push([i, i + n + 1, i + n]);
+        }
+    }
+    Mesh {
+        positions,
+        triangles,
+    }
+}
+
+/// The star prism with every third triangle turned round: its boundary
+/// chain has edges counted twice.
+pub fn mixed_orientation() -> Mesh {
+    let mut m = star_prism();
+    for t in m.triangles.iter_mut().step_by(3) {
+        t.swap(1, 2);
+    }
+    m
 }
