@@ -33,6 +33,21 @@ pub struct VolumeTarget {
     pub inside: Inside,
 }
 
+/// How a model's cells outside the grid are counted (`N_out` of the linear
+/// score, part of `O` in the normalized one).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum OutsideCount {
+    /// Lattice cells outside the grid whose centre lies inside an instance
+    /// (each instance counts its own): the paper's definition.
+    #[default]
+    Solid,
+    /// Lattice cells outside the grid whose centre lies inside an
+    /// instance's bounding box (the closed world box around its placed
+    /// local bounding box): what the authors' code counts, for comparisons
+    /// with it.
+    Aabb,
+}
+
 /// A voxel grid with targets combined into one weight per cell.
 #[derive(Clone, Debug)]
 pub struct VolumeScene {
@@ -44,6 +59,7 @@ pub struct VolumeScene {
     target_cells: u64,
     /// `Σ_i w̃_i`: the weight of a model cell outside the grid (outside every target).
     outside_sum: f64,
+    outside_count: OutsideCount,
     warnings: Vec<String>,
 }
 
@@ -92,8 +108,22 @@ impl VolumeScene {
             target,
             target_cells,
             outside_sum: targets.iter().map(|t| t.outside).sum(),
+            outside_count: OutsideCount::Solid,
             warnings,
         })
+    }
+
+    /// The same scene counting cells outside the grid by `rule`.
+    #[must_use]
+    pub fn with_outside_count(mut self, rule: OutsideCount) -> Self {
+        self.outside_count = rule;
+        self
+    }
+
+    /// How cells outside the grid are counted.
+    #[must_use]
+    pub fn outside_count(&self) -> OutsideCount {
+        self.outside_count
     }
 
     /// The grid.
@@ -139,6 +169,45 @@ fn in_grid(grid: &Grid, s: Span) -> std::ops::Range<usize> {
     base + x0 as usize..base + x1 as usize
 }
 
+/// Lattice cells outside `grid` whose centres lie in the closed world box
+/// around the corners of `solid`'s local bounding box placed by
+/// `transform`; none for a transform the voxelizer refuses (singular or not
+/// finite).
+#[must_use]
+pub fn aabb_cells_outside(grid: &Grid, solid: &Solid, transform: &Affine3A) -> u64 {
+    let m = crate::voxelize::to_f64(transform);
+    if m.matrix3.determinant() == 0.0 || !m.matrix3.is_finite() || !m.translation.is_finite() {
+        return 0;
+    }
+    let (lo, hi) = solid.bounds();
+    let (mut wlo, mut whi) = (glam::DVec3::INFINITY, glam::DVec3::NEG_INFINITY);
+    for i in 0..8 {
+        let corner = glam::DVec3::new(
+            if i & 1 == 0 { lo.x } else { hi.x },
+            if i & 2 == 0 { lo.y } else { hi.y },
+            if i & 4 == 0 { lo.z } else { hi.z },
+        );
+        let w = m.transform_point3(corner);
+        wlo = wlo.min(w);
+        whi = whi.max(w);
+    }
+    let (mut all, mut inside) = (1u64, 1u64);
+    for axis in 0..3 {
+        // Centres c with wlo ≤ c ≤ whi: indices first..end.
+        let first = grid.first_at_or_after(axis, wlo[axis]);
+        let mut end = grid.first_at_or_after(axis, whi[axis]);
+        if grid.center_along(axis, end) == whi[axis] {
+            end += 1;
+        }
+        let n = (end - first).max(0) as u64;
+        let dim = i64::from(grid.dims()[axis]);
+        let k = (end.min(dim) - first.max(0)).max(0) as u64;
+        all *= n;
+        inside *= k;
+    }
+    all - inside
+}
+
 /// What one model covers, counted against a [`VolumeScene`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct VolumeCounts {
@@ -152,7 +221,8 @@ pub struct VolumeCounts {
     pub overlap_cells: u64,
     /// `Σ max(0, h − 1)` over cells with hit count `h`.
     pub overlap_hits: u64,
-    /// Lattice cells outside the grid covered by the model (each instance counts its own).
+    /// Lattice cells outside the grid covered by the model (each instance
+    /// counts its own; see [`OutsideCount`]).
     pub outside: u64,
 }
 
@@ -196,9 +266,15 @@ impl VolumeScratch {
             counts,
         } = self;
         let grid = &scene.grid;
+        let by_solid = scene.outside_count == OutsideCount::Solid;
+        if !by_solid {
+            counts.outside += aabb_cells_outside(grid, solid, transform);
+        }
         voxelizer.spans(grid, solid, transform, |s| {
             let cells = in_grid(grid, s);
-            counts.outside += (s.x1 - s.x0) as u64 - cells.len() as u64;
+            if by_solid {
+                counts.outside += (s.x1 - s.x0) as u64 - cells.len() as u64;
+            }
             if cells.is_empty() {
                 return;
             }

@@ -9,7 +9,9 @@ use glam::{Affine3A, IVec3, Quat, UVec3, Vec3};
 use proptest::prelude::*;
 use shapegen_core::graph::Limits;
 use shapegen_score::score::{OverlapCount, VolumeScore, smootherstep};
-use shapegen_score::volume::{VolumeCounts, VolumeScene, VolumeScratch, VolumeTarget};
+use shapegen_score::volume::{
+    OutsideCount, VolumeCounts, VolumeScene, VolumeScratch, VolumeTarget,
+};
 use shapegen_score::voxelize::reference;
 use shapegen_score::{Grid, Mesh, Solid};
 
@@ -94,6 +96,64 @@ proptest! {
                             (slow.good, slow.bad, slow.overlap_cells, slow.overlap_hits, slow.outside));
             prop_assert!((fast.weight - slow.weight).abs() < 1e-9);
         }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    /// `OutsideCount::Aabb`: each instance adds the lattice cells outside the
+    /// grid whose centres lie in the world box around its placed local
+    /// bounding box (counted here by
+    /// enumerating a generous block of cells), and never fewer than the
+    /// solid rule; the in-grid counts do not change.
+    #[test]
+    fn aabb_outside_counts_match_brute_force(instances in proptest::collection::vec(placement(0.3..2.0, Vec3::new(-2.5, -1.5, -2.5), Vec3::splat(2.5)), 1..4), frustum in any::<bool>()) {
+        let solid_rule = scene();
+        let aabb_rule = scene().with_outside_count(OutsideCount::Aabb);
+        let mesh = if frustum { Mesh::trunk() } else { Mesh::unit_cube() };
+        let solid = Solid::new("shape", &mesh).unwrap();
+        let g = grid();
+        let mut expected = 0u64;
+        for t in &instances {
+            // The world box around the placed local bounding box's corners.
+            let (llo, lhi) = mesh.bounds();
+            let m = glam::DAffine3::from_mat4(glam::Mat4::from(*t).as_dmat4());
+            let corners: Vec<glam::DVec3> = (0..8)
+                .map(|i| {
+                    let pick = |bit: usize, a: f32, b: f32| f64::from(if i & bit == 0 { a } else { b });
+                    m.transform_point3(glam::DVec3::new(
+                        pick(1, llo.x, lhi.x),
+                        pick(2, llo.y, lhi.y),
+                        pick(4, llo.z, lhi.z),
+                    ))
+                })
+                .collect();
+            let lo = corners.iter().fold(glam::DVec3::INFINITY, |a, p| a.min(*p));
+            let hi = corners.iter().fold(glam::DVec3::NEG_INFINITY, |a, p| a.max(*p));
+            for z in -40..60 {
+                for y in -40..60 {
+                    for x in -40..60 {
+                        let c = IVec3::new(x, y, z);
+                        let p = g.center(c);
+                        if p.cmpge(lo).all() && p.cmple(hi).all() && !g.contains(c) {
+                            expected += 1;
+                        }
+                    }
+                }
+            }
+        }
+        let (mut a, mut b) = (VolumeScratch::new(&solid_rule), VolumeScratch::new(&aabb_rule));
+        a.begin();
+        b.begin();
+        for t in &instances {
+            a.add(&solid_rule, &solid, t);
+            b.add(&aabb_rule, &solid, t);
+        }
+        let (a, b) = (a.counts(), b.counts());
+        prop_assert_eq!(b.outside, expected);
+        prop_assert!(b.outside >= a.outside);
+        prop_assert_eq!((a.good, a.bad, a.overlap_cells), (b.good, b.bad, b.overlap_cells));
     }
 }
 

@@ -85,7 +85,18 @@ pub(super) struct VolumeFile {
     pub min: [f32; 3],
     pub max: [f32; 3],
     pub resolution: [u32; 3],
+    pub outside_count: Option<OutsideCountFile>,
     pub targets: Vec<Spanned<VolumeTargetFile>>,
+}
+
+/// `volume.outside_count`: how model cells outside the grid are counted.
+#[derive(Debug, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum OutsideCountFile {
+    /// Cells inside an instance (the paper).
+    Solid,
+    /// Cells inside an instance's bounding box (the authors' code).
+    Aabb,
 }
 
 /// `[[volume.targets]]`.

@@ -49,6 +49,7 @@
 //! min = [-5.0, -5.0, -2.0]
 //! max = [5.0, 5.0, 18.0]
 //! resolution = [100, 200, 100]
+//! # outside_count = "aabb"  # model cells outside the grid: "solid" (paper) or instance boxes (authors' code)
 //! [[volume.targets]]
 //! mesh = "${data}/spaceship_target.obj"   # or builtin = "ship"
 //! fill = 1.0                # weight of a covered target cell

@@ -10,7 +10,7 @@ use toml::Spanned;
 use super::error::Source;
 use super::file::{
     BudgetFile, DelayedRejectionFile, EdgeMatchFile, ExperimentFile, ImageFile, InsideFile,
-    ScoreForm, VolumeFile,
+    OutsideCountFile, ScoreForm, VolumeFile,
 };
 use super::problem::{ModelProblem, Problem};
 use super::{Experiment, ExperimentError, LoadOptions, Method, MethodConfig, MethodParams};
@@ -28,7 +28,7 @@ use crate::score::mesh::Mesh;
 use crate::score::obj::ShapeMeshes;
 use crate::score::score::{ImageScore, ImageTargets, ModelFitness, OverlapCount, VolumeScore};
 use crate::score::solid::Inside;
-use crate::score::volume::{VolumeScene, VolumeTarget};
+use crate::score::volume::{OutsideCount, VolumeScene, VolumeTarget};
 
 /// The generators an experiment may name.
 const GENERATORS: &str = "spaceship, tree_v1, tree_v2, space_filling_city, grid_city";
@@ -495,7 +495,11 @@ fn volume_scene(
         }
     }
     let scene = VolumeScene::new(grid, &targets)
-        .map_err(|e| ctx.err("volume.targets", v, e.to_string()))?;
+        .map_err(|e| ctx.err("volume.targets", v, e.to_string()))?
+        .with_outside_count(match vf.outside_count {
+            None | Some(OutsideCountFile::Solid) => OutsideCount::Solid,
+            Some(OutsideCountFile::Aabb) => OutsideCount::Aabb,
+        });
     let warnings = scene.warnings().to_vec();
     Ok((scene, targets, warnings))
 }

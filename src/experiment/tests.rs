@@ -238,3 +238,37 @@ fn a_target_with_holes_may_use_the_winding_number() {
             .all(|w| !w.contains("not watertight"))
     );
 }
+
+#[test]
+fn cells_outside_the_grid_may_be_counted_by_instance_boxes() {
+    // Trees (rotated frusta and leaves) in a grid they outgrow: counting
+    // the instances' boxes instead of their cells outside the grid can only
+    // add to the overlap term, so lower the normalized score.
+    let trees = MINIMAL.replace("spaceship", "tree_v2");
+    let solid = load(&trees).unwrap();
+    let aabb = load(&trees.replace(
+        "[[volume.targets]]",
+        "outside_count = \"aabb\"\n[[volume.targets]]",
+    ))
+    .unwrap();
+    let mut rng = crate::rng::stream(5, &[]);
+    let mut lower = 0;
+    for _ in 0..20 {
+        let c = crate::ops::random_individual(
+            solid.graph(),
+            &crate::ops::InitLength::Around { l0: 60 },
+            &mut rng,
+        )
+        .unwrap();
+        let (s, a) = (solid.evaluate(&c), aabb.evaluate(&c));
+        assert!(a <= s, "{a} > {s}");
+        lower += usize::from(a < s);
+    }
+    assert!(lower > 0, "no tree left the grid");
+    // An unknown rule names the key.
+    let (_, key, _) = invalid(&trees.replace(
+        "[[volume.targets]]",
+        "outside_count = \"boxes\"\n[[volume.targets]]",
+    ));
+    assert_eq!(key, "volume.outside_count");
+}
