@@ -204,11 +204,16 @@ fn convex_hull(pts: &mut [DVec2], hull: &mut Vec<DVec2>) {
     hull.pop();
 }
 
-/// `ceil(x)` without a libm call (exact for |x| < 2⁵²).
-#[inline]
-fn ceil(x: f64) -> f64 {
-    let t = x as i64 as f64;
-    if t < x { t + 1.0 } else { t }
+/// The rows whose centres lie in `[ymin, ymax)`, clipped to the image of
+/// height `h`: `r0..r1` (empty if `r0 >= r1`).
+#[inline(always)]
+fn row_range(ymin: f64, ymax: f64, h: f64) -> (f64, f64) {
+    let lo = if ymin > -1.0 { ymin } else { -1.0 };
+    let hi = if ymax < h + 1.0 { ymax } else { h + 1.0 };
+    (
+        f64::from(ceil_small(lo - 0.5).max(0)),
+        f64::from(ceil_small(hi - 0.5).min(h as i32)),
+    )
 }
 
 /// Fills a convex polygon in pixel coordinates with the half-open centre rule.
@@ -227,8 +232,7 @@ fn fill_convex(
         ymax = ymax.max(p.y);
     }
     let (w, h) = (f64::from(camera.width), f64::from(camera.height));
-    let r0 = ceil(ymin.max(-1.0) - 0.5).max(0.0);
-    let r1 = ceil(ymax.min(h + 1.0) - 0.5).min(h); // rows with centre < ymax
+    let (r0, r1) = row_range(ymin, ymax, h);
     if r0 >= r1 {
         return;
     }
@@ -273,10 +277,9 @@ fn emit_row(row: f64, xl: f64, xr: f64, w: f64, f: &mut impl FnMut(PixelSpan)) {
     }
     let lo = if xl > -1.0 { xl } else { -1.0 };
     let hi = if xr < w + 1.0 { xr } else { w + 1.0 };
-    let c0 = ceil(lo - 0.5);
-    let c0 = if c0 > 0.0 { c0 } else { 0.0 };
-    let c1 = ceil(hi - 0.5);
-    let c1 = if c1 < w { c1 } else { w };
+    // Both in [-1.5, w + 0.5]: small enough for `ceil_small`.
+    let c0 = ceil_small(lo - 0.5).max(0);
+    let c1 = ceil_small(hi - 0.5).min(w as i32);
     if c0 < c1 {
         f(PixelSpan {
             row: row as u32,
@@ -284,6 +287,17 @@ fn emit_row(row: f64, xl: f64, xr: f64, w: f64, f: &mut impl FnMut(PixelSpan)) {
             c1: c1 as u32,
         });
     }
+}
+
+/// `⌈y⌉` for `|y| < 2³⁰`, exactly, without a float-to-integer conversion:
+/// adding `1.5 · 2⁵²` rounds `y` to the nearest integer `n`, which the sum's
+/// low 32 bits hold in two's complement; one more if `n < y`.
+#[inline(always)]
+fn ceil_small(y: f64) -> i32 {
+    const MAGIC: f64 = 6_755_399_441_055_744.0;
+    let r = y + MAGIC;
+    let n = r.to_bits() as u32 as i32;
+    n + i32::from(r - MAGIC < y)
 }
 
 /// [`fill_convex`] of a triangle without its edge list, for the hot path of
@@ -308,8 +322,7 @@ fn fill_triangle(camera: &Camera, tri: [DVec2; 3], f: &mut impl FnMut(PixelSpan)
         std::mem::swap(&mut a, &mut b);
     }
     let (w, h) = (f64::from(camera.width), f64::from(camera.height));
-    let r0 = ceil(a.y.max(-1.0) - 0.5).max(0.0);
-    let r1 = ceil(c.y.min(h + 1.0) - 0.5).min(h);
+    let (r0, r1) = row_range(a.y, c.y, h);
     if r0 >= r1 {
         return;
     }
@@ -372,8 +385,7 @@ fn fill_negative_winding(
         return;
     }
     let (w, h) = (f64::from(camera.width), f64::from(camera.height));
-    let r0 = ceil(ymin.max(-1.0) - 0.5).max(0.0);
-    let r1 = ceil(ymax.min(h + 1.0) - 0.5).min(h);
+    let (r0, r1) = row_range(ymin, ymax, h);
     let mut r = r0;
     while r < r1 {
         let yc = r + 0.5;
@@ -446,6 +458,25 @@ mod tests {
 
     /// `fill_triangle` gives exactly `fill_convex`'s spans, on random
     /// triangles including flat, collinear, repeated and off-image ones.
+    /// `ceil_small` is `f64::ceil` on the range it is used for, including
+    /// integers, half-integers and their neighbours.
+    #[test]
+    fn ceil_small_is_ceil() {
+        let mut rng = Lcg(3);
+        for i in 0..200_000 {
+            let y = match i % 4 {
+                0 => rng.unit() * 5000.0 - 2.0,
+                1 => (rng.unit() * 5000.0).round() - 2.0,
+                2 => (rng.unit() * 10_000.0).round() / 2.0 - 2.0,
+                _ => {
+                    let k = (rng.unit() * 5000.0).round() / 2.0 - 2.0;
+                    if i % 8 == 3 { k.next_up() } else { k.next_down() }
+                }
+            };
+            assert_eq!(f64::from(ceil_small(y)), y.ceil(), "{y}");
+        }
+    }
+
     #[test]
     fn fill_triangle_equals_fill_convex() {
         let camera = Camera::orthographic(
