@@ -1,6 +1,6 @@
 //! Cameras: the paper's orbit perspective camera and an orthographic one.
 
-use glam::{DVec2, DVec3};
+use glam::{DAffine3, DMat3, DVec2, DVec3};
 
 use crate::error::ScoreError;
 
@@ -147,6 +147,18 @@ impl Camera {
     pub fn view(&self, p: DVec3) -> DVec3 {
         let q = p - self.eye;
         DVec3::new(self.right.dot(q), self.up.dot(q), self.forward.dot(q))
+    }
+
+    /// The view transform as an affine map: `view_affine().transform_point3(p)`
+    /// is [`view`](Self::view)`(p)` up to rounding, and composes with a
+    /// model transform into one map per instance.
+    #[must_use]
+    pub fn view_affine(&self) -> DAffine3 {
+        let rows = DMat3::from_cols(self.right, self.up, self.forward).transpose();
+        DAffine3 {
+            matrix3: rows,
+            translation: -(rows * self.eye),
+        }
     }
 
     /// Pixel coordinates of a view-space point (`Z > 0` for perspective).

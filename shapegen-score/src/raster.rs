@@ -83,14 +83,11 @@ impl Rasterizer {
         transform: &Affine3A,
         mut f: impl FnMut(PixelSpan),
     ) {
-        let m = crate::voxelize::to_f64(transform);
+        // Model and view in one map.
+        let m = camera.view_affine() * crate::voxelize::to_f64(transform);
         self.view.clear();
-        self.view.extend(
-            shape
-                .positions
-                .iter()
-                .map(|p| camera.view(m.transform_point3(*p))),
-        );
+        self.view
+            .extend(shape.positions.iter().map(|p| m.transform_point3(*p)));
         if !self.view.iter().all(|v| v.is_finite()) {
             return;
         }
