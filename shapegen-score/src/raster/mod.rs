@@ -2,9 +2,11 @@
 //!
 //! A pixel is covered iff its centre lies inside the projection of some
 //! triangle of the model (no culling, no anti-aliasing), counting only the
-//! parts of triangles at depths in `[near, far]`. Convex meshes seen whole
-//! (every vertex in the depth range) are filled as the convex hull of their
-//! projected vertices; other meshes triangle by triangle, each clipped to
+//! parts of triangles at depths in `[near, far]`. Closed convex meshes seen
+//! whole (every vertex in the depth range) are filled as the convex hull of
+//! their projected vertices; other meshes seen whole by one scanline sweep
+//! over their contour (see `contour`: the same pixels as every triangle);
+//! meshes cut by the near or far plane triangle by triangle, each clipped to
 //! the depth range in view space. A polygon covers the pixels of row `r`
 //! whose centres lie in `[x_left, x_right)` where the row's centre line
 //! crosses it, for rows whose centre lies in `[y_min, y_max)` (half-open,
@@ -17,14 +19,16 @@ use crate::error::ScoreError;
 use crate::mesh::Mesh;
 use crate::solid::{Convex, cross};
 
+mod contour;
+
 /// A mesh prepared for rasterization.
 #[derive(Clone, Debug)]
 pub struct RasterShape {
     positions: Vec<DVec3>,
     triangles: Vec<[u32; 3]>,
     convex: bool,
-    /// The mesh's boundary as directed edges (see [`Mesh::boundary_chain`]).
-    boundary: Vec<[u32; 2]>,
+    /// Edges and their triangles, for filling from the contour.
+    edges: contour::EdgeTable,
 }
 
 impl RasterShape {
@@ -35,7 +39,7 @@ impl RasterShape {
             positions: mesh.positions.iter().map(|p| p.as_dvec3()).collect(),
             triangles: mesh.triangles.clone(),
             convex: Convex::from_mesh(mesh).is_some(),
-            boundary: mesh.boundary_chain(),
+            edges: contour::EdgeTable::new(mesh),
         })
     }
 }
@@ -60,8 +64,7 @@ pub struct Rasterizer {
     pixels: Vec<DVec2>,
     hull: Vec<DVec2>,
     edges: Vec<Edge>,
-    chain: Vec<(Edge, i32)>,
-    crossings: Vec<(f64, i32)>,
+    contour: contour::ContourScratch,
 }
 
 /// A non-horizontal polygon edge: lower end, upper end, dx/dy.
@@ -107,22 +110,13 @@ impl Rasterizer {
         self.pixels
             .extend(self.view.iter().map(|v| proj.to_pixel(*v)));
         if self.view.iter().all(in_range) {
-            // The triangles of one winding, plus where the boundary winds
-            // the other way: the same pixels as every triangle (see
-            // `fill_negative_winding`), for about half the triangles.
-            for t in &shape.triangles {
-                let [a, b, c] = t.map(|i| self.pixels[i as usize]);
-                if (b - a).perp_dot(c - a) > 0.0 {
-                    continue;
-                }
-                fill_triangle(camera, [a, b, c], &mut f);
-            }
-            fill_negative_winding(
+            // The same pixels as every triangle, from the contour.
+            contour::fill_contour(
                 camera,
                 &self.pixels,
-                &shape.boundary,
-                &mut self.chain,
-                &mut self.crossings,
+                &shape.triangles,
+                &shape.edges,
+                &mut self.contour,
                 &mut f,
             );
             return;
@@ -345,65 +339,6 @@ fn fill_triangle(camera: &Camera, tri: [DVec2; 3], f: &mut impl FnMut(PixelSpan)
     }
 }
 
-/// Fills the pixels around whose centre the projected boundary chain winds
-/// negatively: with the triangles of the other winding, exactly the pixels
-/// of all triangles.
-///
-/// Why: under the half-open centre rule a triangle covers a pixel iff the
-/// winding number of its projected edges around the centre (crossings of
-/// the centre's row at or left of it, +1 for an edge going down the image,
-/// −1 going up) is ±1: +1 if its pixel-space signed area is negative, −1 if
-/// positive. Winding numbers add over edges, and a shared edge's crossings
-/// are the same numbers in both triangles (same lower end, same slope), so
-/// the sum over all triangles is the winding number `W` of the boundary
-/// chain. A pixel that no triangle of the first kind covers therefore lies
-/// in exactly `−W` triangles of the second kind: it is covered iff `W < 0`.
-fn fill_negative_winding(
-    camera: &Camera,
-    pixels: &[DVec2],
-    boundary: &[[u32; 2]],
-    edges: &mut Vec<(Edge, i32)>,
-    crossings: &mut Vec<(f64, i32)>,
-    f: &mut impl FnMut(PixelSpan),
-) {
-    edges.clear();
-    let (mut ymin, mut ymax) = (f64::INFINITY, f64::NEG_INFINITY);
-    for &[p, q] in boundary {
-        let (p, q) = (pixels[p as usize], pixels[q as usize]);
-        if p.y == q.y || !(p.is_finite() && q.is_finite()) {
-            continue;
-        }
-        let (lo, hi, dir) = if p.y < q.y { (p, q, 1) } else { (q, p, -1) };
-        edges.push(((lo, hi, (hi.x - lo.x) / (hi.y - lo.y)), dir));
-        ymin = ymin.min(lo.y);
-        ymax = ymax.max(hi.y);
-    }
-    if edges.is_empty() {
-        return;
-    }
-    let (w, h) = (f64::from(camera.width), f64::from(camera.height));
-    let (r0, r1) = row_range(ymin, ymax, h);
-    let mut r = r0;
-    while r < r1 {
-        let yc = r + 0.5;
-        crossings.clear();
-        for &((lo, hi, slope), dir) in edges.iter() {
-            if lo.y <= yc && yc < hi.y {
-                crossings.push((lo.x + (yc - lo.y) * slope, dir));
-            }
-        }
-        crossings.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
-        let mut winding = 0;
-        for pair in crossings.windows(2) {
-            winding += pair[0].1;
-            if winding < 0 {
-                emit_row(r, pair[0].0, pair[1].0, w, f);
-            }
-        }
-        r += 1.0;
-    }
-}
-
 /// Slow reference: every pixel whose centre ray hits some triangle of some
 /// instance at a depth in `[near, far]`, by testing every triangle.
 #[must_use]
@@ -455,6 +390,78 @@ mod tests {
 
     /// `fill_triangle` gives exactly `fill_convex`'s spans, on random
     /// triangles including flat, collinear, repeated and off-image ones.
+    /// The pixels of filling every triangle one by one.
+    fn every_triangle(camera: &Camera, shape: &RasterShape, t: &Affine3A) -> Vec<bool> {
+        let m = camera.view_affine() * crate::voxelize::to_f64(t);
+        let proj = camera.projector();
+        let pixels: Vec<DVec2> = shape
+            .positions
+            .iter()
+            .map(|p| proj.to_pixel(m.transform_point3(*p)))
+            .collect();
+        let mut out = vec![false; (camera.width * camera.height) as usize];
+        for tri in &shape.triangles {
+            fill_triangle(camera, tri.map(|i| pixels[i as usize]), &mut |s| {
+                for c in s.c0..s.c1 {
+                    out[(s.row * camera.width + c) as usize] = true;
+                }
+            });
+        }
+        out
+    }
+
+    /// Filling from the contour gives exactly the pixels of filling every
+    /// triangle, on random triangle soups over a small vertex pool (shared
+    /// edges, folds, holes, flipped, repeated and degenerate triangles,
+    /// vertices on the half-pixel grid) seen orthographically.
+    #[test]
+    fn contour_filling_equals_every_triangle() {
+        let camera = Camera::orthographic(
+            DVec3::new(0.0, 0.0, -5.0),
+            DVec3::Z,
+            DVec3::Y,
+            4.0,
+            0.1,
+            10.0,
+            (48, 36),
+        )
+        .unwrap();
+        let mut rng = Lcg(11);
+        let mut rasterizer = Rasterizer::new();
+        for case in 0..400 {
+            let pool = 4 + (rng.unit() * 12.0) as u32;
+            let positions: Vec<glam::Vec3> = (0..pool)
+                .map(|_| {
+                    let mut v = [0.0f32; 3].map(|_| (rng.unit() * 5.0 - 2.5) as f32);
+                    if case % 3 == 0 {
+                        // On the half-pixel grid (12 pixels per unit).
+                        v = v.map(|x| (x * 24.0).round() / 24.0);
+                    }
+                    glam::Vec3::from_array(v)
+                })
+                .collect();
+            let triangles: Vec<[u32; 3]> = (0..1 + (rng.unit() * 30.0) as usize)
+                .map(|_| [(); 3].map(|_| (rng.unit() * f64::from(pool)) as u32 % pool))
+                .collect();
+            let mesh = Mesh {
+                positions,
+                triangles,
+            };
+            let Ok(shape) = RasterShape::new("soup", &mesh) else {
+                continue;
+            };
+            let mut fast = vec![false; (camera.width * camera.height) as usize];
+            rasterizer.spans(&camera, &shape, &Affine3A::IDENTITY, |s| {
+                for c in s.c0..s.c1 {
+                    fast[(s.row * camera.width + c) as usize] = true;
+                }
+            });
+            let slow = every_triangle(&camera, &shape, &Affine3A::IDENTITY);
+            let differ = (0..fast.len()).filter(|&i| fast[i] != slow[i]).count();
+            assert_eq!(differ, 0, "case {case}: {differ} pixels differ");
+        }
+    }
+
     /// `ceil_small` is `f64::ceil` on the range it is used for, including
     /// integers, half-integers and their neighbours.
     #[test]
@@ -467,7 +474,11 @@ mod tests {
                 2 => (rng.unit() * 10_000.0).round() / 2.0 - 2.0,
                 _ => {
                     let k = (rng.unit() * 5000.0).round() / 2.0 - 2.0;
-                    if i % 8 == 3 { k.next_up() } else { k.next_down() }
+                    if i % 8 == 3 {
+                        k.next_up()
+                    } else {
+                        k.next_down()
+                    }
                 }
             };
             assert_eq!(f64::from(ceil_small(y)), y.ceil(), "{y}");

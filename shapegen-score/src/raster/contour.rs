@@ -1,0 +1,261 @@
+//! Filling a mesh from its contour: one scanline sweep over the edges where
+//! the projected surface folds or ends, instead of every triangle.
+//!
+//! Under the half-open centre rule a triangle covers a pixel iff the winding
+//! number of its projected edges around the pixel's centre is ±1: crossings
+//! of the centre's row at or left of it, +1 for an edge going down the
+//! image, −1 going up; +1 inside if its pixel-space signed area is not
+//! positive (*front* here), −1 if it is (*back*). Winding numbers add over
+//! edges, and an edge shared by two triangles crosses every row at the same
+//! number in both (same lower end, same slope), so sums of triangles are
+//! winding numbers of the sums' boundaries:
+//!
+//! - `W_F`, the winding number of the front triangles' boundary (the
+//!   contour edges between front and back, and the mesh's own boundary
+//!   next to front triangles), counts the front triangles over a pixel;
+//! - `W`, that of the whole mesh's boundary chain, is `#front − #back`.
+//!
+//! A pixel is covered by some triangle iff `W_F ≥ 1`, or `W_F = 0` and
+//! `#back = −W > 0`: iff `W_F ≥ 1 or W < 0`. Both are read off one sweep of
+//! the edges where either multiplicity is non-zero, which for a smooth mesh
+//! are far fewer than all triangle edges; the crossings, rows and pixel
+//! rounding are those of triangle-by-triangle filling, so the pixels are the
+//! same (but where rounding makes a near-degenerate triangle's two crossings
+//! of a row swap, within an ulp of a pixel centre).
+
+use glam::DVec2;
+
+use super::{PixelSpan, emit_row, row_range};
+use crate::camera::Camera;
+use crate::mesh::Mesh;
+
+/// A mesh's edges with their incident triangles.
+#[derive(Clone, Debug, Default)]
+pub(super) struct EdgeTable {
+    /// Edges between exactly two triangles running them in opposite
+    /// directions (most edges of a clean mesh): ends `[a, b]` (`a < b`), the
+    /// triangle running `a → b`, the one running `b → a`. Such an edge is
+    /// on the contour iff exactly one of them is front, and never on the
+    /// mesh's boundary.
+    pairs: Vec<([u32; 2], u32, u32)>,
+    /// Every other edge: ends, and its triangles
+    /// `incident[start[e]..start[e + 1]]`, each with +1 if it runs `a → b`,
+    /// −1 if `b → a`; `boundary[e]` is the sum of those signs (the mesh's
+    /// boundary chain on the edge).
+    ends: Vec<[u32; 2]>,
+    start: Vec<u32>,
+    incident: Vec<(u32, i32)>,
+    boundary: Vec<i32>,
+}
+
+impl EdgeTable {
+    /// The edges of `mesh`, vertices at the same position welded to the
+    /// first index.
+    pub(super) fn new(mesh: &Mesh) -> Self {
+        let mut first = std::collections::HashMap::new();
+        let id: Vec<u32> = (0..mesh.positions.len() as u32)
+            .map(|i| {
+                let key = mesh.positions[i as usize].to_array().map(f32::to_bits);
+                *first.entry(key).or_insert(i)
+            })
+            .collect();
+        let mut by_edge = std::collections::BTreeMap::<[u32; 2], Vec<(u32, i32)>>::new();
+        for (t, tri) in mesh.triangles.iter().enumerate() {
+            for (a, b) in [(tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0])] {
+                let (a, b) = (id[a as usize], id[b as usize]);
+                if a != b {
+                    let sign = if a < b { 1 } else { -1 };
+                    by_edge
+                        .entry([a.min(b), a.max(b)])
+                        .or_default()
+                        .push((t as u32, sign));
+                }
+            }
+        }
+        let mut table = Self::default();
+        table.start.push(0);
+        for (ends, tris) in by_edge {
+            match tris[..] {
+                [(t0, 1), (t1, -1)] => table.pairs.push((ends, t0, t1)),
+                [(t1, -1), (t0, 1)] => table.pairs.push((ends, t0, t1)),
+                _ => {
+                    table.ends.push(ends);
+                    table.boundary.push(tris.iter().map(|&(_, s)| s).sum());
+                    table.incident.extend(tris);
+                    table.start.push(table.incident.len() as u32);
+                }
+            }
+        }
+        table
+    }
+}
+
+/// An edge set up for the sweep.
+#[derive(Clone, Copy, Debug)]
+struct SweepEdge {
+    /// Lower end (smaller y) and dx/dy.
+    lo: DVec2,
+    slope: f64,
+    /// First row whose centre it crosses, and one past the last.
+    first: u32,
+    end: u32,
+    /// Winding contributions of a crossing: to `W_F` and to `W`.
+    front: i32,
+    all: i32,
+}
+
+/// Reusable working memory of [`fill_contour`].
+#[derive(Clone, Debug, Default)]
+pub(super) struct ContourScratch {
+    front: Vec<bool>,
+    edges: Vec<SweepEdge>,
+    count: Vec<u32>,
+    order: Vec<u32>,
+    active: Vec<u32>,
+    crossings: Vec<(f64, u32)>,
+}
+
+/// Fills the triangles `triangles` of a mesh whose vertices project to
+/// `pixels` (all finite and in the depth range), through its edge table.
+pub(super) fn fill_contour(
+    camera: &Camera,
+    pixels: &[DVec2],
+    triangles: &[[u32; 3]],
+    table: &EdgeTable,
+    s: &mut ContourScratch,
+    f: &mut impl FnMut(PixelSpan),
+) {
+    let (w, h) = (f64::from(camera.width), f64::from(camera.height));
+    s.front.clear();
+    s.front.extend(triangles.iter().map(|t| {
+        let [a, b, c] = t.map(|i| pixels[i as usize]);
+        // NaN (never, for finite pixels) would count as front, as elsewhere.
+        (b - a).perp_dot(c - a) <= 0.0 || (b - a).perp_dot(c - a).is_nan()
+    }));
+    s.edges.clear();
+    for &(ends, t0, t1) in &table.pairs {
+        let front = i32::from(s.front[t0 as usize]) - i32::from(s.front[t1 as usize]);
+        if front != 0 {
+            push_edge(&mut s.edges, pixels, ends, front, 0, h);
+        }
+    }
+    for (e, &ends) in table.ends.iter().enumerate() {
+        let incident = &table.incident[table.start[e] as usize..table.start[e + 1] as usize];
+        let front: i32 = incident
+            .iter()
+            .filter(|&&(t, _)| s.front[t as usize])
+            .map(|&(_, sign)| sign)
+            .sum();
+        let all = table.boundary[e];
+        if front != 0 || all != 0 {
+            push_edge(&mut s.edges, pixels, ends, front, all, h);
+        }
+    }
+    if s.edges.is_empty() {
+        return;
+    }
+    // Edge indices by first row (a counting sort: rows are few).
+    let top = s.edges.iter().map(|e| e.first).min().unwrap_or(0);
+    let rows = s.edges.iter().map(|e| e.first).max().unwrap_or(0) - top + 1;
+    s.count.clear();
+    s.count.resize(rows as usize + 1, 0);
+    for e in &s.edges {
+        s.count[(e.first - top) as usize + 1] += 1;
+    }
+    for r in 1..s.count.len() {
+        s.count[r] += s.count[r - 1];
+    }
+    s.order.clear();
+    s.order.resize(s.edges.len(), 0);
+    for (i, e) in s.edges.iter().enumerate() {
+        let slot = &mut s.count[(e.first - top) as usize];
+        s.order[*slot as usize] = i as u32;
+        *slot += 1;
+    }
+    s.active.clear();
+    let mut next = 0;
+    let mut row = top;
+    loop {
+        while next < s.order.len() && s.edges[s.order[next] as usize].first == row {
+            s.active.push(s.order[next]);
+            next += 1;
+        }
+        let yc = f64::from(row) + 0.5;
+        s.crossings.clear();
+        s.crossings.extend(s.active.iter().map(|&i| {
+            let e = &s.edges[i as usize];
+            (e.lo.x + (yc - e.lo.y) * e.slope, i)
+        }));
+        // Few crossings, mostly in the last row's order (kept in `active`).
+        insertion_sort(&mut s.crossings);
+        // Covered between consecutive crossings iff W_F ≥ 1 or W < 0;
+        // consecutive covered intervals are emitted as one span (the same
+        // pixels: the centre rule is monotone).
+        let (mut wf, mut wa) = (0, 0);
+        let mut run_start = None;
+        for (k, &(x, i)) in s.crossings.iter().enumerate() {
+            s.active[k] = i;
+            let e = &s.edges[i as usize];
+            wf += e.front;
+            wa += e.all;
+            let covered = wf >= 1 || wa < 0;
+            match (run_start, covered) {
+                (None, true) => run_start = Some(x),
+                (Some(x0), false) => {
+                    emit_row(f64::from(row), x0, x, w, f);
+                    run_start = None;
+                }
+                _ => {}
+            }
+        }
+        row += 1;
+        let edges = &s.edges;
+        s.active.retain(|&i| edges[i as usize].end > row);
+        if s.active.is_empty() {
+            match s.order.get(next) {
+                Some(&i) => row = s.edges[i as usize].first,
+                None => return,
+            }
+        }
+    }
+}
+
+/// Adds edge `ends` (with multiplicities `front` and `all` in the direction
+/// `ends[0] → ends[1]`) to the sweep, unless it crosses no row centre line.
+#[inline]
+fn push_edge(
+    edges: &mut Vec<SweepEdge>,
+    pixels: &[DVec2],
+    ends: [u32; 2],
+    front: i32,
+    all: i32,
+    h: f64,
+) {
+    let (p, q) = (pixels[ends[0] as usize], pixels[ends[1] as usize]);
+    if p.y == q.y {
+        return; // horizontal: crosses no row centre line
+    }
+    let (lo, hi, dir) = if p.y < q.y { (p, q, 1) } else { (q, p, -1) };
+    let (r0, r1) = row_range(lo.y, hi.y, h);
+    if r0 < r1 {
+        edges.push(SweepEdge {
+            lo,
+            slope: (hi.x - lo.x) / (hi.y - lo.y),
+            first: r0 as u32,
+            end: r1 as u32,
+            front: dir * front,
+            all: dir * all,
+        });
+    }
+}
+
+/// Sorts by x (NaN last, as `total_cmp` puts positive NaN).
+fn insertion_sort(v: &mut [(f64, u32)]) {
+    for i in 1..v.len() {
+        let mut j = i;
+        while j > 0 && v[j - 1].0.total_cmp(&v[j].0).is_gt() {
+            v.swap(j - 1, j);
+            j -= 1;
+        }
+    }
+}
