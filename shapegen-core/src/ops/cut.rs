@@ -151,12 +151,23 @@ pub(crate) fn cut_unchecked(graph: &Graph, c: &mut Chromosome, victim: u32) -> C
     for k in k..index.len() {
         let r = index[k] as usize;
         let new_pos = r - shift;
-        let parent_at = word::follow(r, words[r + word::PARENT]);
-        if parent_at < w {
-            words[r + word::PARENT] = word::link(new_pos, parent_at);
-            let slot = word::slot(words[r]) as usize;
-            words[parent_at + word::SLOTS + slot] = word::link(parent_at, new_pos);
-        }
+        let old = words[r + word::PARENT];
+        let parent_at = word::follow(r, old);
+        // Branch-free (whether a link reaches back is unpredictable): a
+        // link that does not writes its old value back, twice.
+        let back = parent_at < w;
+        let slot = word::slot(words[r]) as usize;
+        let (at, value) = if back {
+            (parent_at + word::SLOTS + slot, word::link(parent_at, new_pos))
+        } else {
+            (r + word::PARENT, old)
+        };
+        words[at] = value;
+        words[r + word::PARENT] = if back {
+            word::link(new_pos, parent_at)
+        } else {
+            old
+        };
         index[kept] = new_pos as u32;
         kept += 1;
     }
