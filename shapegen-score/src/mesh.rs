@@ -17,6 +17,20 @@ pub struct Mesh {
 }
 
 impl Mesh {
+    /// For every vertex, the first vertex at exactly the same position
+    /// (itself if none comes before): vertices welded by position, as the
+    /// edge and boundary checks see them.
+    #[must_use]
+    pub fn welded(&self) -> Vec<u32> {
+        let mut first = std::collections::HashMap::new();
+        (0..self.positions.len() as u32)
+            .map(|i| {
+                let key = self.positions[i as usize].to_array().map(f32::to_bits);
+                *first.entry(key).or_insert(i)
+            })
+            .collect()
+    }
+
     /// The boundary of the mesh as a chain: every triangle's three directed
     /// edges, summed with opposite directions cancelling, a non-zero sum `m`
     /// giving `|m|` copies of the edge in its direction (vertex indices).
@@ -25,13 +39,7 @@ impl Mesh {
     /// cycle (every vertex starts as many edges as it ends).
     #[must_use]
     pub fn boundary_chain(&self) -> Vec<[u32; 2]> {
-        let mut first = std::collections::HashMap::new();
-        let id: Vec<u32> = (0..self.positions.len() as u32)
-            .map(|i| {
-                let key = self.positions[i as usize].to_array().map(f32::to_bits);
-                *first.entry(key).or_insert(i)
-            })
-            .collect();
+        let id = self.welded();
         let mut net = std::collections::BTreeMap::<(u32, u32), i32>::new();
         for t in &self.triangles {
             for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {

@@ -442,16 +442,7 @@ fn bounds(pts: &[DVec3]) -> (DVec3, DVec3) {
 
 /// Edges with exactly one incident triangle, vertices welded by exact position.
 fn boundary_edges(mesh: &Mesh) -> usize {
-    let mut ids: HashMap<[u32; 3], u32> = HashMap::new();
-    let weld: Vec<u32> = mesh
-        .positions
-        .iter()
-        .map(|p| {
-            let n = ids.len() as u32;
-            *ids.entry([p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
-                .or_insert(n)
-        })
-        .collect();
+    let weld = mesh.welded();
     let mut edges: HashMap<(u32, u32), u32> = HashMap::new();
     for t in &mesh.triangles {
         for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {

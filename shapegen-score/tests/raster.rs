@@ -9,7 +9,7 @@ use shapegen_score::Mesh;
 use shapegen_score::camera::Camera;
 use shapegen_score::raster::{RasterShape, Rasterizer, reference_coverage};
 
-/// Two disjoint cubes: a non-convex mesh, rasterized triangle by triangle.
+/// Two disjoint cubes: a non-convex mesh, filled from its contour (or triangle by triangle when clipped).
 fn two_cubes() -> Mesh {
     let mut m = Mesh::unit_cube();
     let n = m.positions.len() as u32;
@@ -24,7 +24,7 @@ fn two_cubes() -> Mesh {
     m
 }
 
-/// Three boxes (36 triangles), drawn triangle by triangle.
+/// Three boxes (36 triangles).
 fn three_cubes() -> Mesh {
     let mut m = two_cubes();
     let n = m.positions.len() as u32;

@@ -158,7 +158,10 @@ pub(crate) fn cut_unchecked(graph: &Graph, c: &mut Chromosome, victim: u32) -> C
         let back = parent_at < w;
         let slot = word::slot(words[r]) as usize;
         let (at, value) = if back {
-            (parent_at + word::SLOTS + slot, word::link(parent_at, new_pos))
+            (
+                parent_at + word::SLOTS + slot,
+                word::link(parent_at, new_pos),
+            )
         } else {
             (r + word::PARENT, old)
         };

@@ -52,13 +52,7 @@ impl EdgeTable {
     /// The edges of `mesh`, vertices at the same position welded to the
     /// first index.
     pub(super) fn new(mesh: &Mesh) -> Self {
-        let mut first = std::collections::HashMap::new();
-        let id: Vec<u32> = (0..mesh.positions.len() as u32)
-            .map(|i| {
-                let key = mesh.positions[i as usize].to_array().map(f32::to_bits);
-                *first.entry(key).or_insert(i)
-            })
-            .collect();
+        let id = mesh.welded();
         let mut by_edge = std::collections::BTreeMap::<[u32; 2], Vec<(u32, i32)>>::new();
         for (t, tri) in mesh.triangles.iter().enumerate() {
             for (a, b) in [(tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0])] {
