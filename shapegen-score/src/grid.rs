@@ -109,6 +109,16 @@ impl Grid {
         i
     }
 
+    /// The lattice indices along `axis` whose centres lie in `[lo, hi]`.
+    #[must_use]
+    pub fn centres_in(&self, axis: usize, lo: f64, hi: f64) -> std::ops::Range<i64> {
+        let mut end = self.first_at_or_after(axis, hi);
+        if self.center_along(axis, end) <= hi {
+            end += 1;
+        }
+        self.first_at_or_after(axis, lo)..end
+    }
+
     /// Whether lattice cell `c` is inside the grid.
     #[inline]
     #[must_use]

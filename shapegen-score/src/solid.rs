@@ -98,7 +98,7 @@ impl Solid {
 }
 
 /// Every vertex finite, every index in range, at least one triangle.
-fn check(name: &str, mesh: &Mesh) -> Result<(), ScoreError> {
+pub(crate) fn check(name: &str, mesh: &Mesh) -> Result<(), ScoreError> {
     let bad = |reason: String| ScoreError::Mesh {
         name: name.to_string(),
         reason,

@@ -175,35 +175,15 @@ fn in_grid(grid: &Grid, s: Span) -> std::ops::Range<usize> {
 /// finite).
 #[must_use]
 pub fn aabb_cells_outside(grid: &Grid, solid: &Solid, transform: &Affine3A) -> u64 {
-    let m = crate::voxelize::to_f64(transform);
-    if m.matrix3.determinant() == 0.0 || !m.matrix3.is_finite() || !m.translation.is_finite() {
+    let Some((_, wlo, whi)) = crate::voxelize::placed_box(solid, transform) else {
         return 0;
-    }
-    let (lo, hi) = solid.bounds();
-    let (mut wlo, mut whi) = (glam::DVec3::INFINITY, glam::DVec3::NEG_INFINITY);
-    for i in 0..8 {
-        let corner = glam::DVec3::new(
-            if i & 1 == 0 { lo.x } else { hi.x },
-            if i & 2 == 0 { lo.y } else { hi.y },
-            if i & 4 == 0 { lo.z } else { hi.z },
-        );
-        let w = m.transform_point3(corner);
-        wlo = wlo.min(w);
-        whi = whi.max(w);
-    }
+    };
     let (mut all, mut inside) = (1u64, 1u64);
     for axis in 0..3 {
-        // Centres c with wlo ≤ c ≤ whi: indices first..end.
-        let first = grid.first_at_or_after(axis, wlo[axis]);
-        let mut end = grid.first_at_or_after(axis, whi[axis]);
-        if grid.center_along(axis, end) == whi[axis] {
-            end += 1;
-        }
-        let n = (end - first).max(0) as u64;
+        let cells = grid.centres_in(axis, wlo[axis], whi[axis]);
         let dim = i64::from(grid.dims()[axis]);
-        let k = (end.min(dim) - first.max(0)).max(0) as u64;
-        all *= n;
-        inside *= k;
+        all *= (cells.end - cells.start).max(0) as u64;
+        inside *= (cells.end.min(dim) - cells.start.max(0)).max(0) as u64;
     }
     all - inside
 }

@@ -109,7 +109,9 @@ struct Rows {
     z: std::ops::Range<i64>,
 }
 
-fn rows(grid: &Grid, solid: &Solid, transform: &Affine3A) -> Option<Rows> {
+/// The instance's transform in `f64` and the world box around its placed
+/// local bounding box; `None` for a singular or non-finite transform.
+pub(crate) fn placed_box(solid: &Solid, transform: &Affine3A) -> Option<(DAffine3, DVec3, DVec3)> {
     let to_world = to_f64(transform);
     if to_world.matrix3.determinant() == 0.0
         || !to_world.matrix3.is_finite()
@@ -117,7 +119,6 @@ fn rows(grid: &Grid, solid: &Solid, transform: &Affine3A) -> Option<Rows> {
     {
         return None;
     }
-    let inv = to_world.inverse();
     let (lo, hi) = solid.bounds();
     let (mut wlo, mut whi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
     for i in 0..8 {
@@ -130,16 +131,13 @@ fn rows(grid: &Grid, solid: &Solid, transform: &Affine3A) -> Option<Rows> {
         wlo = wlo.min(w);
         whi = whi.max(w);
     }
+    Some((to_world, wlo, whi))
+}
+
+fn rows(grid: &Grid, solid: &Solid, transform: &Affine3A) -> Option<Rows> {
+    let (to_world, wlo, whi) = placed_box(solid, transform)?;
+    let inv = to_world.inverse();
     let cell = grid.cell_size();
-    let first = |axis: usize| grid.first_at_or_after(axis, wlo[axis]);
-    // One past the last centre <= whi.
-    let end = |axis: usize| {
-        let mut e = grid.first_at_or_after(axis, whi[axis]);
-        if grid.center_along(axis, e) <= whi[axis] {
-            e += 1;
-        }
-        e
-    };
     let x_start = wlo.x - cell.x;
     Some(Rows {
         o0: inv.transform_point3(DVec3::new(x_start, 0.0, 0.0)),
@@ -148,12 +146,18 @@ fn rows(grid: &Grid, solid: &Solid, transform: &Affine3A) -> Option<Rows> {
         dir: inv.matrix3 * DVec3::X,
         x_start,
         len: (whi.x - wlo.x) + 2.0 * cell.x,
-        y: first(1)..end(1),
-        z: first(2)..end(2),
+        y: grid.centres_in(1, wlo.y, whi.y),
+        z: grid.centres_in(2, wlo.z, whi.z),
     })
 }
 
 impl Rows {
+    /// The cells along x that every row of the instance looks at.
+    fn x_cells(&self, grid: &Grid) -> std::ops::Range<i64> {
+        grid.first_at_or_after(0, self.x_start)
+            ..grid.first_at_or_after(0, self.x_start + self.len) + 1
+    }
+
     /// Local start of the line of row `(y, z)` (world centre coordinates).
     #[inline]
     fn origin(&self, y: f64, z: f64) -> DVec3 {
@@ -253,8 +257,10 @@ impl Voxelizer {
                 .iter()
                 .map(|t| t.map(|p| to_world.transform_point3(p))),
         );
-        let x_begin = grid.first_at_or_after(0, r.x_start);
-        let x_end = grid.first_at_or_after(0, r.x_start + r.len) + 1;
+        let std::ops::Range {
+            start: x_begin,
+            end: x_end,
+        } = r.x_cells(grid);
         for z in r.z.clone() {
             let wz = grid.center_along(2, z);
             for y in r.y.clone() {
@@ -302,6 +308,14 @@ pub mod reference {
     use crate::grid::Grid;
     use crate::solid::Solid;
 
+    /// The parity rule at world `xc` on a row whose line starts at world
+    /// `x_start` (module docs): an odd number of the `crossings` at or
+    /// before it, and one after.
+    fn inside_by_parity(crossings: &[f64], x_start: f64, xc: f64) -> bool {
+        let before = crossings.iter().filter(|&&t| x_start + t <= xc).count();
+        before % 2 == 1 && before < crossings.len()
+    }
+
     /// Every lattice cell inside the instance, decided cell by cell: the
     /// crossings of the cell's row line with *every* triangle (no BVH, no
     /// spans) are counted up to the cell's centre, which is inside iff the
@@ -313,8 +327,10 @@ pub mod reference {
         let Some(r) = rows(grid, solid, transform) else {
             return Vec::new();
         };
-        let x_end = grid.first_at_or_after(0, r.x_start + r.len) + 1;
-        let x_begin = grid.first_at_or_after(0, r.x_start);
+        let std::ops::Range {
+            start: x_begin,
+            end: x_end,
+        } = r.x_cells(grid);
         let mut out = Vec::new();
         let mut crossings = Vec::new();
         let mut planes = Vec::new();
@@ -335,8 +351,7 @@ pub mod reference {
                         }
                     }
                     let xc = grid.center_along(0, x);
-                    let before = crossings.iter().filter(|&&t| r.x_start + t <= xc).count();
-                    if before % 2 == 1 && before < crossings.len() {
+                    if inside_by_parity(&crossings, r.x_start, xc) {
                         out.push(IVec3::new(x as i32, y as i32, z as i32));
                     }
                 }
@@ -360,8 +375,10 @@ pub mod reference {
         let (Solid::Mesh(m), Some(r)) = (solid, rows(grid, solid, transform)) else {
             return Vec::new();
         };
-        let x_end = grid.first_at_or_after(0, r.x_start + r.len) + 1;
-        let x_begin = grid.first_at_or_after(0, r.x_start);
+        let std::ops::Range {
+            start: x_begin,
+            end: x_end,
+        } = r.x_cells(grid);
         let mut out = Vec::new();
         let mut crossings = Vec::new();
         let z_rows = r.z.start.max(z_rows.start)..r.z.end.min(z_rows.end);
@@ -372,8 +389,7 @@ pub mod reference {
                 m.crossings_brute_force(r.origin(wy, wz), r.dir, &mut crossings);
                 for x in x_begin..x_end {
                     let xc = grid.center_along(0, x);
-                    let before = crossings.iter().filter(|&&t| r.x_start + t <= xc).count();
-                    if before % 2 == 1 && before < crossings.len() {
+                    if inside_by_parity(&crossings, r.x_start, xc) {
                         out.push(IVec3::new(x as i32, y as i32, z as i32));
                     }
                 }
@@ -396,8 +412,10 @@ pub mod reference {
             .triangles()
             .map(|t| t.map(|p| to_world.transform_point3(p)))
             .collect();
-        let x_end = grid.first_at_or_after(0, r.x_start + r.len) + 1;
-        let x_begin = grid.first_at_or_after(0, r.x_start);
+        let std::ops::Range {
+            start: x_begin,
+            end: x_end,
+        } = r.x_cells(grid);
         let mut out = Vec::new();
         for z in r.z.clone() {
             for y in r.y.clone() {
@@ -430,8 +448,10 @@ pub mod reference {
             return Vec::new();
         };
         let inv = super::to_f64(transform).inverse();
-        let x_begin = grid.first_at_or_after(0, r.x_start);
-        let x_end = grid.first_at_or_after(0, r.x_start + r.len) + 1;
+        let std::ops::Range {
+            start: x_begin,
+            end: x_end,
+        } = r.x_cells(grid);
         let mut out = Vec::new();
         for z in r.z.clone() {
             for y in r.y.clone() {

@@ -39,6 +39,31 @@ fn three_cubes() -> Mesh {
     m
 }
 
+/// The rasterizer's pixels of `instances` are exactly those of per-pixel ray casting.
+fn equals_ray_casting(
+    cam: &Camera,
+    instances: &[(&RasterShape, Affine3A)],
+) -> Result<(), TestCaseError> {
+    let mut fast = vec![false; (cam.width * cam.height) as usize];
+    let mut rasterizer = Rasterizer::new();
+    for (shape, t) in instances {
+        rasterizer.spans(cam, shape, t, |s| {
+            for c in s.c0..s.c1 {
+                fast[(s.row * cam.width + c) as usize] = true;
+            }
+        });
+    }
+    let slow = reference_coverage(cam, instances);
+    let differ: Vec<usize> = (0..fast.len()).filter(|&i| fast[i] != slow[i]).collect();
+    prop_assert!(
+        differ.is_empty(),
+        "{} pixels differ, e.g. {:?}",
+        differ.len(),
+        &differ[..differ.len().min(5)]
+    );
+    Ok(())
+}
+
 fn camera() -> impl Strategy<Value = Camera> {
     prop_oneof![
         // Perspective orbits; a near plane of up to 3 clips models that come close.
@@ -80,24 +105,13 @@ proptest! {
         let shapes = [Mesh::unit_cube(), Mesh::trunk(), Mesh::leaf(), two_cubes(), three_cubes(), star_prism()]
             .map(|m| RasterShape::new("shape", &m).unwrap());
         let instances: Vec<(&RasterShape, Affine3A)> = placements.iter().map(|(t, k)| (&shapes[*k], *t)).collect();
-        let mut fast = vec![false; (cam.width * cam.height) as usize];
-        let mut rasterizer = Rasterizer::new();
-        for (shape, t) in &instances {
-            rasterizer.spans(&cam, shape, t, |s| {
-                for c in s.c0..s.c1 {
-                    fast[(s.row * cam.width + c) as usize] = true;
-                }
-            });
-        }
-        let slow = reference_coverage(&cam, &instances);
-        let differ: Vec<usize> = (0..fast.len()).filter(|&i| fast[i] != slow[i]).collect();
-        prop_assert!(differ.is_empty(), "{} pixels differ, e.g. {:?}", differ.len(), &differ[..differ.len().min(5)]);
+        equals_ray_casting(&cam, &instances)?;
     }
 }
 
-/// Open meshes (drawn with one winding's triangles plus the boundary rule
-/// when wholly in the depth range) and the paper's leaf, if the shared data
-/// is present.
+/// Open meshes (filled from their contour, which includes their own
+/// boundary, when wholly in the depth range) and the paper's leaf, if the
+/// shared data is present.
 fn open_shapes() -> Vec<RasterShape> {
     let mut meshes = vec![
         open_box(),
@@ -122,17 +136,6 @@ proptest! {
     fn open_mesh_silhouettes_equal_ray_casting(cam in camera(), placements in proptest::collection::vec((placement(0.2..2.0, Vec3::splat(-2.0), Vec3::splat(2.0)), 0usize..6), 1..3)) {
         let shapes = open_shapes();
         let instances: Vec<(&RasterShape, Affine3A)> = placements.iter().map(|(t, k)| (&shapes[*k % shapes.len()], *t)).collect();
-        let mut fast = vec![false; (cam.width * cam.height) as usize];
-        let mut rasterizer = Rasterizer::new();
-        for (shape, t) in &instances {
-            rasterizer.spans(&cam, shape, t, |s| {
-                for c in s.c0..s.c1 {
-                    fast[(s.row * cam.width + c) as usize] = true;
-                }
-            });
-        }
-        let slow = reference_coverage(&cam, &instances);
-        let differ: Vec<usize> = (0..fast.len()).filter(|&i| fast[i] != slow[i]).collect();
-        prop_assert!(differ.is_empty(), "{} pixels differ, e.g. {:?}", differ.len(), &differ[..differ.len().min(5)]);
+        equals_ray_casting(&cam, &instances)?;
     }
 }

@@ -123,8 +123,9 @@ pub(super) fn fill_contour(
     s.front.clear();
     s.front.extend(triangles.iter().map(|t| {
         let [a, b, c] = t.map(|i| pixels[i as usize]);
-        // NaN (never, for finite pixels) would count as front, as elsewhere.
-        (b - a).perp_dot(c - a) <= 0.0 || (b - a).perp_dot(c - a).is_nan()
+        // NaN (never, for finite pixels) would count as front.
+        let area = (b - a).perp_dot(c - a);
+        area <= 0.0 || area.is_nan()
     }));
     s.edges.clear();
     for &(ends, t0, t1) in &table.pairs {

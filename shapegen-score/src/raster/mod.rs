@@ -34,7 +34,7 @@ pub struct RasterShape {
 impl RasterShape {
     /// Prepares `mesh` (named `name` in errors).
     pub fn new(name: &str, mesh: &Mesh) -> Result<Self, ScoreError> {
-        crate::solid::Solid::new(name, mesh)?; // same validity checks
+        crate::solid::check(name, mesh)?; // the solids' validity checks
         Ok(Self {
             positions: mesh.positions.iter().map(|p| p.as_dvec3()).collect(),
             triangles: mesh.triangles.clone(),
@@ -291,8 +291,8 @@ fn ceil_small(y: f64) -> i32 {
     n + i32::from(r - MAGIC < y)
 }
 
-/// [`fill_convex`] of a triangle without its edge list, for the hot path of
-/// meshes drawn triangle by triangle: the same spans, bit for bit.
+/// [`fill_convex`] of a triangle without its edge list, for meshes cut by
+/// the near or far plane (drawn triangle by triangle): the same spans, bit for bit.
 ///
 /// Sorted by y, the active edges of a row are the long edge a–c and, above
 /// b, the edge a–b, below it b–c; each edge's lower end and slope are those
@@ -390,6 +390,20 @@ mod tests {
 
     /// `fill_triangle` gives exactly `fill_convex`'s spans, on random
     /// triangles including flat, collinear, repeated and off-image ones.
+    /// An orthographic camera 4 units high looking along +z, of `size` pixels.
+    fn orthographic(size: (u32, u32)) -> Camera {
+        Camera::orthographic(
+            DVec3::new(0.0, 0.0, -5.0),
+            DVec3::Z,
+            DVec3::Y,
+            4.0,
+            0.1,
+            10.0,
+            size,
+        )
+        .unwrap()
+    }
+
     /// The pixels of filling every triangle one by one.
     fn every_triangle(camera: &Camera, shape: &RasterShape, t: &Affine3A) -> Vec<bool> {
         let m = camera.view_affine() * crate::voxelize::to_f64(t);
@@ -416,16 +430,7 @@ mod tests {
     /// vertices on the half-pixel grid) seen orthographically.
     #[test]
     fn contour_filling_equals_every_triangle() {
-        let camera = Camera::orthographic(
-            DVec3::new(0.0, 0.0, -5.0),
-            DVec3::Z,
-            DVec3::Y,
-            4.0,
-            0.1,
-            10.0,
-            (48, 36),
-        )
-        .unwrap();
+        let camera = orthographic((48, 36));
         let mut rng = Lcg(11);
         let mut rasterizer = Rasterizer::new();
         for case in 0..400 {
@@ -487,16 +492,7 @@ mod tests {
 
     #[test]
     fn fill_triangle_equals_fill_convex() {
-        let camera = Camera::orthographic(
-            DVec3::new(0.0, 0.0, -5.0),
-            DVec3::Z,
-            DVec3::Y,
-            4.0,
-            0.1,
-            10.0,
-            (40, 30),
-        )
-        .unwrap();
+        let camera = orthographic((40, 30));
         let mut rng = Lcg(7);
         let mut edges = Vec::new();
         for i in 0..20_000 {
