@@ -102,11 +102,15 @@ struct SweepEdge {
 #[derive(Clone, Debug, Default)]
 pub(super) struct ContourScratch {
     front: Vec<bool>,
+    /// Candidate edges (ends and multiplicities), of which the first
+    /// `n` are on the contour.
+    candidates: Vec<([u32; 2], i32, i32)>,
     edges: Vec<SweepEdge>,
     count: Vec<u32>,
     order: Vec<u32>,
-    active: Vec<u32>,
-    crossings: Vec<(f64, u32)>,
+    /// The edges crossing the current row: crossing and edge index, in the
+    /// previous row's order until sorted.
+    active: Vec<(f64, u32)>,
 }
 
 /// Fills the triangles `triangles` of a mesh whose vertices project to
@@ -122,17 +126,26 @@ pub(super) fn fill_contour(
     let (w, h) = (f64::from(camera.width), f64::from(camera.height));
     s.front.clear();
     s.front.extend(triangles.iter().map(|t| {
-        let [a, b, c] = t.map(|i| pixels[i as usize]);
-        // NaN (never, for finite pixels) would count as front.
+        let (a, b, c) = (
+            pixels[t[0] as usize],
+            pixels[t[1] as usize],
+            pixels[t[2] as usize],
+        );
+        // Front: a signed area that is not positive (NaN, never for finite
+        // pixels, would count as front).
         let area = (b - a).perp_dot(c - a);
         area <= 0.0 || area.is_nan()
     }));
-    s.edges.clear();
+    // The contour edges, gathered without a branch per edge (whether an
+    // edge is on the contour is unpredictable).
+    s.candidates.clear();
+    s.candidates
+        .resize(table.pairs.len() + table.ends.len(), ([0; 2], 0, 0));
+    let mut n = 0;
     for &(ends, t0, t1) in &table.pairs {
         let front = i32::from(s.front[t0 as usize]) - i32::from(s.front[t1 as usize]);
-        if front != 0 {
-            push_edge(&mut s.edges, pixels, ends, front, 0, h);
-        }
+        s.candidates[n] = (ends, front, 0);
+        n += usize::from(front != 0);
     }
     for (e, &ends) in table.ends.iter().enumerate() {
         let incident = &table.incident[table.start[e] as usize..table.start[e + 1] as usize];
@@ -142,9 +155,12 @@ pub(super) fn fill_contour(
             .map(|&(_, sign)| sign)
             .sum();
         let all = table.boundary[e];
-        if front != 0 || all != 0 {
-            push_edge(&mut s.edges, pixels, ends, front, all, h);
-        }
+        s.candidates[n] = (ends, front, all);
+        n += usize::from(front != 0 || all != 0);
+    }
+    s.edges.clear();
+    for &(ends, front, all) in &s.candidates[..n] {
+        push_edge(&mut s.edges, pixels, ends, front, all, h);
     }
     if s.edges.is_empty() {
         return;
@@ -172,40 +188,42 @@ pub(super) fn fill_contour(
     let mut row = top;
     loop {
         while next < s.order.len() && s.edges[s.order[next] as usize].first == row {
-            s.active.push(s.order[next]);
+            s.active.push((0.0, s.order[next]));
             next += 1;
         }
         let yc = f64::from(row) + 0.5;
-        s.crossings.clear();
-        s.crossings.extend(s.active.iter().map(|&i| {
-            let e = &s.edges[i as usize];
-            (e.lo.x + (yc - e.lo.y) * e.slope, i)
-        }));
-        // Few crossings, mostly in the last row's order (kept in `active`).
-        insertion_sort(&mut s.crossings);
+        for (x, i) in s.active.iter_mut() {
+            let e = &s.edges[*i as usize];
+            *x = e.lo.x + (yc - e.lo.y) * e.slope;
+        }
+        // Few crossings, mostly in the last row's order.
+        insertion_sort(&mut s.active);
         // Covered between consecutive crossings iff W_F ≥ 1 or W < 0;
         // consecutive covered intervals are emitted as one span (the same
-        // pixels: the centre rule is monotone).
+        // pixels: the centre rule is monotone). Edges ending at this row
+        // leave the active list in the same pass.
         let (mut wf, mut wa) = (0, 0);
-        let mut run_start = None;
-        for (k, &(x, i)) in s.crossings.iter().enumerate() {
-            s.active[k] = i;
+        let (mut open, mut x0) = (false, 0.0);
+        let mut kept = 0;
+        for k in 0..s.active.len() {
+            let (x, i) = s.active[k];
             let e = &s.edges[i as usize];
             wf += e.front;
             wa += e.all;
             let covered = wf >= 1 || wa < 0;
-            match (run_start, covered) {
-                (None, true) => run_start = Some(x),
-                (Some(x0), false) => {
+            if covered != open {
+                if covered {
+                    x0 = x;
+                } else {
                     emit_row(f64::from(row), x0, x, w, f);
-                    run_start = None;
                 }
-                _ => {}
+                open = covered;
             }
+            s.active[kept] = (x, i);
+            kept += usize::from(e.end > row + 1);
         }
+        s.active.truncate(kept);
         row += 1;
-        let edges = &s.edges;
-        s.active.retain(|&i| edges[i as usize].end > row);
         if s.active.is_empty() {
             match s.order.get(next) {
                 Some(&i) => row = s.edges[i as usize].first,
@@ -244,13 +262,20 @@ fn push_edge(
     }
 }
 
-/// Sorts by x (NaN last, as `total_cmp` puts positive NaN).
+/// Sorts by x, shifting each out-of-place entry left over the larger ones
+/// (the input is mostly sorted). A NaN crossing (only from absurd
+/// coordinates, where `dx / dy` overflows) stays where it is, and the spans
+/// around it are empty or partial; never a panic.
 fn insertion_sort(v: &mut [(f64, u32)]) {
     for i in 1..v.len() {
-        let mut j = i;
-        while j > 0 && v[j - 1].0.total_cmp(&v[j].0).is_gt() {
-            v.swap(j - 1, j);
-            j -= 1;
+        let cur = v[i];
+        if cur.0 < v[i - 1].0 {
+            let mut j = i;
+            while j > 0 && cur.0 < v[j - 1].0 {
+                v[j] = v[j - 1];
+                j -= 1;
+            }
+            v[j] = cur;
         }
     }
 }

@@ -35,11 +35,13 @@ impl RasterShape {
     /// Prepares `mesh` (named `name` in errors).
     pub fn new(name: &str, mesh: &Mesh) -> Result<Self, ScoreError> {
         crate::solid::check(name, mesh)?; // the solids' validity checks
+        // Every vertex is projected once per instance: one per position.
+        let mesh = mesh.with_welded_vertices();
         Ok(Self {
             positions: mesh.positions.iter().map(|p| p.as_dvec3()).collect(),
-            triangles: mesh.triangles.clone(),
-            convex: Convex::from_mesh(mesh).is_some(),
-            edges: contour::EdgeTable::new(mesh),
+            convex: Convex::from_mesh(&mesh).is_some(),
+            edges: contour::EdgeTable::new(&mesh),
+            triangles: mesh.triangles,
         })
     }
 }
@@ -86,30 +88,37 @@ impl Rasterizer {
         transform: &Affine3A,
         mut f: impl FnMut(PixelSpan),
     ) {
-        // Model and view in one map.
+        // Model and view in one map; every vertex transformed and projected
+        // in one pass (those behind a perspective eye are only used through
+        // clipping).
         let m = camera.view_affine() * crate::voxelize::to_f64(transform);
-        self.view.clear();
-        self.view
-            .extend(shape.positions.iter().map(|p| m.transform_point3(*p)));
-        if !self.view.iter().all(|v| v.is_finite()) {
+        let proj = camera.projector();
+        let (near, far) = (camera.near, camera.far);
+        let in_range = |v: &DVec3| v.z >= near && v.z <= far;
+        let n = shape.positions.len();
+        self.view.resize(n, DVec3::ZERO);
+        self.pixels.resize(n, DVec2::ZERO);
+        let (mut finite, mut all_in) = (true, true);
+        for ((p, v), px) in shape
+            .positions
+            .iter()
+            .zip(&mut self.view)
+            .zip(&mut self.pixels)
+        {
+            *v = m.transform_point3(*p);
+            finite &= v.is_finite();
+            all_in &= in_range(v);
+            *px = proj.to_pixel(*v);
+        }
+        if !finite {
             return;
         }
-        let proj = camera.projector();
-        let in_range = |v: &DVec3| v.z >= camera.near && v.z <= camera.far;
-        if shape.convex && self.view.iter().all(in_range) {
-            self.pixels.clear();
-            self.pixels
-                .extend(self.view.iter().map(|v| proj.to_pixel(*v)));
+        if shape.convex && all_in {
             convex_hull(&mut self.pixels, &mut self.hull);
             fill_convex(camera, &self.hull, &mut self.edges, &mut f);
             return;
         }
-        // Project every vertex once (those behind a perspective eye are only
-        // used through clipping); triangles wholly in range need no clipping.
-        self.pixels.clear();
-        self.pixels
-            .extend(self.view.iter().map(|v| proj.to_pixel(*v)));
-        if self.view.iter().all(in_range) {
+        if all_in {
             // The same pixels as every triangle, from the contour.
             contour::fill_contour(
                 camera,
