@@ -180,21 +180,37 @@ impl Mask {
         self.covered[base + s.c0 as usize..base + s.c1 as usize].fill(true);
     }
 
+    /// Adds the covered pixels' counts. The weights are summed in four
+    /// independent lanes (then added in a fixed order): one running sum
+    /// would make every covered pixel wait for the previous addition.
     fn count(&self, weights: &[f32], counts: &mut ImageCounts) {
+        let mut lanes = [0.0f64; 4];
+        let (mut good, mut bad) = (0u64, 0u64);
+        let mut add = |lane: &mut f64, m: bool, wt: f32| {
+            *lane += if m { f64::from(wt) } else { 0.0 };
+            good += u64::from(m & (wt > 0.0));
+            bad += u64::from(m & (wt < 0.0));
+        };
         for &r in &self.rows {
             let (c0, c1) = self.extent[r as usize];
             let (a, b) = (
                 (r * self.width + c0) as usize,
                 (r * self.width + c1) as usize,
             );
-            for (&m, &wt) in self.covered[a..b].iter().zip(&weights[a..b]) {
-                if m {
-                    counts.weight += f64::from(wt);
-                    counts.good += u64::from(wt > 0.0);
-                    counts.bad += u64::from(wt < 0.0);
+            let mut covered = self.covered[a..b].chunks_exact(4);
+            let mut wts = weights[a..b].chunks_exact(4);
+            for (m, wt) in (&mut covered).zip(&mut wts) {
+                for k in 0..4 {
+                    add(&mut lanes[k], m[k], wt[k]);
                 }
             }
+            for (&m, &wt) in covered.remainder().iter().zip(wts.remainder()) {
+                add(&mut lanes[0], m, wt);
+            }
         }
+        counts.weight += (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]);
+        counts.good += good;
+        counts.bad += bad;
     }
 }
 

@@ -85,7 +85,7 @@ impl EdgeTable {
 }
 
 /// An edge set up for the sweep.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 struct SweepEdge {
     /// Lower end (smaller y) and dx/dy.
     lo: DVec2,
@@ -124,8 +124,10 @@ pub(super) fn fill_contour(
     f: &mut impl FnMut(PixelSpan),
 ) {
     let (w, h) = (f64::from(camera.width), f64::from(camera.height));
-    s.front.clear();
-    s.front.extend(triangles.iter().map(|t| {
+    // Working buffers only grow (clearing them per mesh would cost as much
+    // as some of the passes below).
+    grow(&mut s.front, triangles.len(), false);
+    for (front, t) in s.front.iter_mut().zip(triangles) {
         let (a, b, c) = (
             pixels[t[0] as usize],
             pixels[t[1] as usize],
@@ -134,70 +136,81 @@ pub(super) fn fill_contour(
         // Front: a signed area that is not positive (NaN, never for finite
         // pixels, would count as front).
         let area = (b - a).perp_dot(c - a);
-        area <= 0.0 || area.is_nan()
-    }));
+        *front = area <= 0.0 || area.is_nan();
+    }
     // The contour edges, gathered without a branch per edge (whether an
     // edge is on the contour is unpredictable).
-    s.candidates.clear();
-    s.candidates
-        .resize(table.pairs.len() + table.ends.len(), ([0; 2], 0, 0));
+    let front = &s.front[..triangles.len()];
+    grow(
+        &mut s.candidates,
+        table.pairs.len() + table.ends.len(),
+        ([0; 2], 0, 0),
+    );
     let mut n = 0;
     for &(ends, t0, t1) in &table.pairs {
-        let front = i32::from(s.front[t0 as usize]) - i32::from(s.front[t1 as usize]);
-        s.candidates[n] = (ends, front, 0);
-        n += usize::from(front != 0);
+        let f = i32::from(front[t0 as usize]) - i32::from(front[t1 as usize]);
+        s.candidates[n] = (ends, f, 0);
+        n += usize::from(f != 0);
     }
     for (e, &ends) in table.ends.iter().enumerate() {
         let incident = &table.incident[table.start[e] as usize..table.start[e + 1] as usize];
-        let front: i32 = incident
+        let f: i32 = incident
             .iter()
-            .filter(|&&(t, _)| s.front[t as usize])
+            .filter(|&&(t, _)| front[t as usize])
             .map(|&(_, sign)| sign)
             .sum();
         let all = table.boundary[e];
-        s.candidates[n] = (ends, front, all);
-        n += usize::from(front != 0 || all != 0);
+        s.candidates[n] = (ends, f, all);
+        n += usize::from(f != 0 || all != 0);
     }
-    s.edges.clear();
+    grow(&mut s.edges, n, SweepEdge::default());
+    let mut edges = 0;
     for &(ends, front, all) in &s.candidates[..n] {
-        push_edge(&mut s.edges, pixels, ends, front, all, h);
+        if let Some(e) = sweep_edge(pixels, ends, front, all, h) {
+            s.edges[edges] = e;
+            edges += 1;
+        }
     }
-    if s.edges.is_empty() {
+    let edges = &s.edges[..edges];
+    if edges.is_empty() {
         return;
     }
     // Edge indices by first row (a counting sort: rows are few).
-    let top = s.edges.iter().map(|e| e.first).min().unwrap_or(0);
-    let rows = s.edges.iter().map(|e| e.first).max().unwrap_or(0) - top + 1;
+    let top = edges.iter().map(|e| e.first).min().unwrap_or(0);
+    let rows = (edges.iter().map(|e| e.first).max().unwrap_or(0) - top + 1) as usize;
     s.count.clear();
-    s.count.resize(rows as usize + 1, 0);
-    for e in &s.edges {
+    s.count.resize(rows + 1, 0);
+    for e in edges {
         s.count[(e.first - top) as usize + 1] += 1;
     }
     for r in 1..s.count.len() {
         s.count[r] += s.count[r - 1];
     }
-    s.order.clear();
-    s.order.resize(s.edges.len(), 0);
-    for (i, e) in s.edges.iter().enumerate() {
+    grow(&mut s.order, edges.len(), 0);
+    for (i, e) in edges.iter().enumerate() {
         let slot = &mut s.count[(e.first - top) as usize];
         s.order[*slot as usize] = i as u32;
         *slot += 1;
     }
-    s.active.clear();
+    let order = &s.order[..edges.len()];
+    grow(&mut s.active, edges.len(), (0.0, 0));
+    let mut active = 0;
     let mut next = 0;
     let mut row = top;
     loop {
-        while next < s.order.len() && s.edges[s.order[next] as usize].first == row {
-            s.active.push((0.0, s.order[next]));
+        while next < order.len() && edges[order[next] as usize].first == row {
+            s.active[active] = (0.0, order[next]);
+            active += 1;
             next += 1;
         }
         let yc = f64::from(row) + 0.5;
-        for (x, i) in s.active.iter_mut() {
-            let e = &s.edges[*i as usize];
+        let crossings = &mut s.active[..active];
+        for (x, i) in crossings.iter_mut() {
+            let e = &edges[*i as usize];
             *x = e.lo.x + (yc - e.lo.y) * e.slope;
         }
         // Few crossings, mostly in the last row's order.
-        insertion_sort(&mut s.active);
+        insertion_sort(crossings);
         // Covered between consecutive crossings iff W_F ≥ 1 or W < 0;
         // consecutive covered intervals are emitted as one span (the same
         // pixels: the centre rule is monotone). Edges ending at this row
@@ -205,9 +218,9 @@ pub(super) fn fill_contour(
         let (mut wf, mut wa) = (0, 0);
         let (mut open, mut x0) = (false, 0.0);
         let mut kept = 0;
-        for k in 0..s.active.len() {
-            let (x, i) = s.active[k];
-            let e = &s.edges[i as usize];
+        for k in 0..crossings.len() {
+            let (x, i) = crossings[k];
+            let e = &edges[i as usize];
             wf += e.front;
             wa += e.all;
             let covered = wf >= 1 || wa < 0;
@@ -219,47 +232,46 @@ pub(super) fn fill_contour(
                 }
                 open = covered;
             }
-            s.active[kept] = (x, i);
+            crossings[kept] = (x, i);
             kept += usize::from(e.end > row + 1);
         }
-        s.active.truncate(kept);
+        active = kept;
         row += 1;
-        if s.active.is_empty() {
-            match s.order.get(next) {
-                Some(&i) => row = s.edges[i as usize].first,
+        if active == 0 {
+            match order.get(next) {
+                Some(&i) => row = edges[i as usize].first,
                 None => return,
             }
         }
     }
 }
 
-/// Adds edge `ends` (with multiplicities `front` and `all` in the direction
-/// `ends[0] → ends[1]`) to the sweep, unless it crosses no row centre line.
+/// Makes `v` at least `len` long (new entries `fill`), never shorter.
+fn grow<T: Clone>(v: &mut Vec<T>, len: usize, fill: T) {
+    if v.len() < len {
+        v.resize(len, fill);
+    }
+}
+
+/// Edge `ends` (with multiplicities `front` and `all` in the direction
+/// `ends[0] → ends[1]`) set up for the sweep; `None` if it crosses no row
+/// centre line of the image.
 #[inline]
-fn push_edge(
-    edges: &mut Vec<SweepEdge>,
-    pixels: &[DVec2],
-    ends: [u32; 2],
-    front: i32,
-    all: i32,
-    h: f64,
-) {
+fn sweep_edge(pixels: &[DVec2], ends: [u32; 2], front: i32, all: i32, h: f64) -> Option<SweepEdge> {
     let (p, q) = (pixels[ends[0] as usize], pixels[ends[1] as usize]);
     if p.y == q.y {
-        return; // horizontal: crosses no row centre line
+        return None; // horizontal: crosses no row centre line
     }
     let (lo, hi, dir) = if p.y < q.y { (p, q, 1) } else { (q, p, -1) };
     let (r0, r1) = row_range(lo.y, hi.y, h);
-    if r0 < r1 {
-        edges.push(SweepEdge {
-            lo,
-            slope: (hi.x - lo.x) / (hi.y - lo.y),
-            first: r0 as u32,
-            end: r1 as u32,
-            front: dir * front,
-            all: dir * all,
-        });
-    }
+    (r0 < r1).then(|| SweepEdge {
+        lo,
+        slope: (hi.x - lo.x) / (hi.y - lo.y),
+        first: r0 as u32,
+        end: r1 as u32,
+        front: dir * front,
+        all: dir * all,
+    })
 }
 
 /// Sorts by x, shifting each out-of-place entry left over the larger ones

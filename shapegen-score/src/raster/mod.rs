@@ -2,12 +2,13 @@
 //!
 //! A pixel is covered iff its centre lies inside the projection of some
 //! triangle of the model (no culling, no anti-aliasing), counting only the
-//! parts of triangles at depths in `[near, far]`. Closed convex meshes seen
-//! whole (every vertex in the depth range) are filled as the convex hull of
-//! their projected vertices; other meshes seen whole by one scanline sweep
-//! over their contour (see `contour`: the same pixels as every triangle);
-//! meshes cut by the near or far plane triangle by triangle, each clipped to
-//! the depth range in view space. A polygon covers the pixels of row `r`
+//! parts of triangles at depths in `[near, far]`. A mesh seen whole (every
+//! vertex in the depth range) is filled by one scanline sweep over its
+//! contour (see `contour`: the same pixels as every triangle; for a box or
+//! a frustum that is two crossings a row, cheaper than sorting its vertices
+//! for a convex hull, which an earlier version did); meshes cut by the near
+//! or far plane triangle by triangle, each clipped to the depth range in
+//! view space. A polygon covers the pixels of row `r`
 //! whose centres lie in `[x_left, x_right)` where the row's centre line
 //! crosses it, for rows whose centre lies in `[y_min, y_max)` (half-open,
 //! so a centre exactly on an edge counts for one side only).
@@ -17,7 +18,7 @@ use glam::{Affine3A, DVec2, DVec3};
 use crate::camera::Camera;
 use crate::error::ScoreError;
 use crate::mesh::Mesh;
-use crate::solid::{Convex, cross};
+use crate::solid::cross;
 
 mod contour;
 
@@ -26,7 +27,6 @@ mod contour;
 pub struct RasterShape {
     positions: Vec<DVec3>,
     triangles: Vec<[u32; 3]>,
-    convex: bool,
     /// Edges and their triangles, for filling from the contour.
     edges: contour::EdgeTable,
 }
@@ -39,7 +39,6 @@ impl RasterShape {
         let mesh = mesh.with_welded_vertices();
         Ok(Self {
             positions: mesh.positions.iter().map(|p| p.as_dvec3()).collect(),
-            convex: Convex::from_mesh(&mesh).is_some(),
             edges: contour::EdgeTable::new(&mesh),
             triangles: mesh.triangles,
         })
@@ -113,11 +112,6 @@ impl Rasterizer {
         if !finite {
             return;
         }
-        if shape.convex && all_in {
-            convex_hull(&mut self.pixels, &mut self.hull);
-            fill_convex(camera, &self.hull, &mut self.edges, &mut f);
-            return;
-        }
         if all_in {
             // The same pixels as every triangle, from the contour.
             contour::fill_contour(
@@ -178,30 +172,6 @@ fn clip_depth(poly: &mut Vec<DVec3>, tmp: &mut Vec<DVec3>, near: f64, far: f64) 
             return;
         }
     }
-}
-
-/// Andrew's monotone chain: the convex hull of `pts` (counter-clockwise in pixel coordinates).
-fn convex_hull(pts: &mut [DVec2], hull: &mut Vec<DVec2>) {
-    pts.sort_unstable_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
-    hull.clear();
-    let turn = |o: DVec2, a: DVec2, b: DVec2| (a - o).perp_dot(b - o);
-    let push = |hull: &mut Vec<DVec2>, start: usize, p: DVec2| {
-        while hull.len() >= start + 2 && turn(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
-        {
-            hull.pop();
-        }
-        hull.push(p);
-    };
-    // Lower chain left to right, then upper chain right to left; each drops its last point.
-    for &p in pts.iter() {
-        push(hull, 0, p);
-    }
-    hull.pop();
-    let start = hull.len();
-    for &p in pts.iter().rev() {
-        push(hull, start, p);
-    }
-    hull.pop();
 }
 
 /// The rows whose centres lie in `[ymin, ymax)`, clipped to the image of
