@@ -95,15 +95,15 @@ impl Rasterizer {
         let (near, far) = (camera.near, camera.far);
         let in_range = |v: &DVec3| v.z >= near && v.z <= far;
         let n = shape.positions.len();
-        self.view.resize(n, DVec3::ZERO);
-        self.pixels.resize(n, DVec2::ZERO);
+        // The buffers only grow: meshes of different sizes alternate (a
+        // leaf, a branch, a leaf), and re-growing means clearing.
+        if self.view.len() < n {
+            self.view.resize(n, DVec3::ZERO);
+            self.pixels.resize(n, DVec2::ZERO);
+        }
+        let (view, pixels) = (&mut self.view[..n], &mut self.pixels[..n]);
         let (mut finite, mut all_in) = (true, true);
-        for ((p, v), px) in shape
-            .positions
-            .iter()
-            .zip(&mut self.view)
-            .zip(&mut self.pixels)
-        {
+        for ((p, v), px) in shape.positions.iter().zip(&mut *view).zip(&mut *pixels) {
             *v = m.transform_point3(*p);
             finite &= v.is_finite();
             all_in &= in_range(v);
@@ -116,7 +116,7 @@ impl Rasterizer {
             // The same pixels as every triangle, from the contour.
             contour::fill_contour(
                 camera,
-                &self.pixels,
+                pixels,
                 &shape.triangles,
                 &shape.edges,
                 &mut self.contour,
