@@ -14,7 +14,9 @@ use shapegen_score::solid::{Inside, Solid};
 use shapegen_score::voxelize::reference;
 use shapegen_score::{Grid, Mesh, Voxelizer};
 
-fn meshes() -> Vec<PathBuf> {
+/// Every OBJ under `../shared/data/{models,paper}`, sorted; `None` (with a
+/// message) when there are none, and the test is skipped.
+fn meshes() -> Option<Vec<PathBuf>> {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data");
     let mut out = Vec::new();
     for dir in ["models", "paper"] {
@@ -28,7 +30,11 @@ fn meshes() -> Vec<PathBuf> {
         }
     }
     out.sort();
-    out
+    if out.is_empty() {
+        eprintln!("skipping: ../shared/data is not there");
+        return None;
+    }
+    Some(out)
 }
 
 fn span_cells(grid: &Grid, solid: &Solid) -> HashSet<IVec3> {
@@ -41,11 +47,9 @@ fn span_cells(grid: &Grid, solid: &Solid) -> HashSet<IVec3> {
 
 #[test]
 fn every_shared_mesh_voxelizes() {
-    let paths = meshes();
-    if paths.is_empty() {
-        eprintln!("skipping: ../shared/data is not there");
+    let Some(paths) = meshes() else {
         return;
-    }
+    };
     let mut report = Vec::new();
     for path in &paths {
         let name = path.file_name().unwrap().to_string_lossy().into_owned();
@@ -114,11 +118,9 @@ fn every_shared_mesh_voxelizes() {
 /// every triangle's solid angle on a 20³ grid, away from the ½ threshold.
 #[test]
 fn open_shared_meshes_by_winding_number() {
-    let paths = meshes();
-    if paths.is_empty() {
-        eprintln!("skipping: ../shared/data is not there");
+    let Some(paths) = meshes() else {
         return;
-    }
+    };
     let g = Grid::cube(Vec3::splat(-0.5), Vec3::splat(0.5), 20).unwrap();
     for path in &paths {
         let name = path.file_name().unwrap().to_string_lossy().into_owned();

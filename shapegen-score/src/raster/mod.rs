@@ -5,8 +5,8 @@
 //! parts of triangles at depths in `[near, far]`. A mesh seen whole (every
 //! vertex in the depth range) is filled by one scanline sweep over its
 //! contour (see `contour`: the same pixels as every triangle; for a box or
-//! a frustum that is two crossings a row, cheaper than sorting its vertices
-//! for a convex hull, which an earlier version did); meshes cut by the near
+//! a frustum that is two crossings a row, cheaper than sorting its
+//! projected vertices for a convex hull); meshes cut by the near
 //! or far plane triangle by triangle, each clipped to the depth range in
 //! view space. A polygon covers the pixels of row `r`
 //! whose centres lie in `[x_left, x_right)` where the row's centre line
@@ -394,13 +394,18 @@ mod tests {
             .collect();
         let mut out = vec![false; (camera.width * camera.height) as usize];
         for tri in &shape.triangles {
-            fill_triangle(camera, tri.map(|i| pixels[i as usize]), &mut |s| {
-                for c in s.c0..s.c1 {
-                    out[(s.row * camera.width + c) as usize] = true;
-                }
-            });
+            fill_triangle(
+                camera,
+                tri.map(|i| pixels[i as usize]),
+                &mut paint(&mut out, camera.width),
+            );
         }
         out
+    }
+
+    /// Sets the pixels of each span in the row-major mask `out` of width `width`.
+    fn paint(out: &mut [bool], width: u32) -> impl FnMut(PixelSpan) + '_ {
+        move |s| out[(s.row * width + s.c0) as usize..(s.row * width + s.c1) as usize].fill(true)
     }
 
     /// Filling from the contour gives exactly the pixels of filling every
@@ -435,11 +440,12 @@ mod tests {
                 continue;
             };
             let mut fast = vec![false; (camera.width * camera.height) as usize];
-            rasterizer.spans(&camera, &shape, &Affine3A::IDENTITY, |s| {
-                for c in s.c0..s.c1 {
-                    fast[(s.row * camera.width + c) as usize] = true;
-                }
-            });
+            rasterizer.spans(
+                &camera,
+                &shape,
+                &Affine3A::IDENTITY,
+                paint(&mut fast, camera.width),
+            );
             let slow = every_triangle(&camera, &shape, &Affine3A::IDENTITY);
             let differ = (0..fast.len()).filter(|&i| fast[i] != slow[i]).count();
             assert_eq!(differ, 0, "case {case}: {differ} pixels differ");
