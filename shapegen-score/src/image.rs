@@ -7,7 +7,7 @@ use glam::Affine3A;
 
 use crate::camera::Camera;
 use crate::error::ScoreError;
-use crate::raster::{PixelSpan, RasterShape, Rasterizer};
+use crate::raster::{Canvas, PixelRect, PixelSpan, RasterShape, Rasterizer};
 
 /// One image target: a signed weight per pixel, seen through `camera`.
 /// Positive weights attract the silhouette, negative repel, zero is "don't care".
@@ -131,11 +131,16 @@ pub struct ImageCounts {
 ///
 /// Spans only set mask bytes and widen their row's extent; the counts are
 /// taken once per model over the extents, and only they are cleared for the
-/// next model, so an evaluation costs what the model covers.
+/// next model, so an evaluation costs what the model covers. An instance
+/// whose pixels are all covered already is not filled at all (see
+/// [`hidden`](Self::hidden)): in a tree, most branches inside the canopy.
 #[derive(Clone, Debug)]
 pub struct ImageScratch {
     masks: Vec<Mask>,
     rasterizer: Rasterizer,
+    /// Instances (per target) skipped since `begin` because every pixel
+    /// they could cover already was.
+    hidden: u64,
 }
 
 /// The coverage of one target.
@@ -167,17 +172,6 @@ impl Mask {
             self.extent[r as usize] = (u32::MAX, 0);
         }
         self.rows.clear();
-    }
-
-    #[inline]
-    fn cover(&mut self, s: PixelSpan) {
-        let e = &mut self.extent[s.row as usize];
-        if e.0 == u32::MAX {
-            self.rows.push(s.row);
-        }
-        *e = (e.0.min(s.c0), e.1.max(s.c1));
-        let base = (s.row * self.width) as usize;
-        self.covered[base + s.c0 as usize..base + s.c1 as usize].fill(true);
     }
 
     /// Adds the covered pixels' counts. The weights are summed in four
@@ -214,6 +208,27 @@ impl Mask {
     }
 }
 
+impl Canvas for Mask {
+    #[inline]
+    fn cover(&mut self, s: PixelSpan) {
+        let e = &mut self.extent[s.row as usize];
+        if e.0 == u32::MAX {
+            self.rows.push(s.row);
+        }
+        *e = (e.0.min(s.c0), e.1.max(s.c1));
+        let base = (s.row * self.width) as usize;
+        self.covered[base + s.c0 as usize..base + s.c1 as usize].fill(true);
+    }
+
+    fn covers(&self, rect: PixelRect) -> bool {
+        let (c0, c1) = rect.cols;
+        (rect.rows.0..rect.rows.1).all(|r| {
+            let base = (r * self.width) as usize;
+            !self.covered[base + c0 as usize..base + c1 as usize].contains(&false)
+        })
+    }
+}
+
 impl ImageScratch {
     /// Working memory for `targets`.
     #[must_use]
@@ -224,19 +239,23 @@ impl ImageScratch {
                 .map(|t| Mask::new(t.camera.width, t.camera.height))
                 .collect(),
             rasterizer: Rasterizer::new(),
+            hidden: 0,
         }
     }
 
     /// Starts a new model.
     pub fn begin(&mut self) {
         self.masks.iter_mut().for_each(Mask::clear);
+        self.hidden = 0;
     }
 
     /// Adds one instance.
     pub fn add(&mut self, targets: &[ImageTarget], shape: &RasterShape, transform: &Affine3A) {
         for (target, mask) in targets.iter().zip(&mut self.masks) {
-            self.rasterizer
-                .spans(&target.camera, shape, transform, |s| mask.cover(s));
+            // An instance whose pixels are all covered adds nothing (the
+            // coverage is a union): a branch inside a canopy is not filled.
+            let drawn = self.rasterizer.draw(&target.camera, shape, transform, mask);
+            self.hidden += u64::from(!drawn);
         }
     }
 
@@ -249,6 +268,15 @@ impl ImageScratch {
             mask.count(&target.weights, &mut counts);
         }
         counts
+    }
+
+    /// How many instances (counted once per target) added since
+    /// [`begin`](Self::begin) were not filled because every pixel they
+    /// can reach (off the image: none) was already covered, so that they
+    /// could not change the coverage.
+    #[must_use]
+    pub fn hidden(&self) -> u64 {
+        self.hidden
     }
 
     /// The coverage mask of target `i`.

@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::shared;
+use common::{placement, shared};
 use glam::{Affine3A, DVec3, Quat, Vec3};
 use proptest::prelude::*;
 use shapegen_score::Mesh;
@@ -29,17 +29,16 @@ proptest! {
 
     /// G, B and the weight sum equal what the brute-force coverage gives,
     /// and a second model counted in the same scratch starts from nothing.
+    /// Up to ten boxes, leaves and trunks of very different sizes, so that
+    /// some are hidden behind the others and skipped.
     #[test]
-    fn counts_match_brute_force(instances in proptest::collection::vec(((-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0, 0.1f32..1.0), (-1.5f32..1.5, -1.5f32..1.5, -1.5f32..1.5)), 1..5)) {
+    fn counts_match_brute_force(instances in proptest::collection::vec((placement(0.1..2.5, Vec3::splat(-1.5), Vec3::splat(1.5)), 0usize..3), 1..10)) {
         let cam = camera(48, 36);
         // A checkerboard of attracting (+1), repelling (−2) and don't-care (0) pixels.
         let weights: Vec<f32> = (0..48 * 36).map(|i| [1.0, -2.0, 0.0][(i / 5 + i / 48) % 3]).collect();
         let target = ImageTarget::new(cam, weights.clone()).unwrap();
-        let cube = RasterShape::new("cube", &Mesh::unit_cube()).unwrap();
-        let placed: Vec<(&RasterShape, Affine3A)> = instances
-            .iter()
-            .map(|((a, b, c, d), (x, y, z))| (&cube, Affine3A::from_rotation_translation(Quat::from_xyzw(*a, *b, *c, *d).normalize(), Vec3::new(*x, *y, *z))))
-            .collect();
+        let shapes = [Mesh::unit_cube(), Mesh::leaf(), Mesh::trunk()].map(|m| RasterShape::new("shape", &m).unwrap());
+        let placed: Vec<(&RasterShape, Affine3A)> = instances.iter().map(|(t, k)| (&shapes[*k], *t)).collect();
         let mut scratch = ImageScratch::new(std::slice::from_ref(&target));
         for round in 0..2 {
             let used = &placed[..placed.len() - round.min(placed.len() - 1)];
@@ -57,6 +56,54 @@ proptest! {
             prop_assert_eq!(scratch.covered(0), &cover[..]);
         }
     }
+}
+
+/// An instance all of whose pixels are covered already is skipped, and
+/// only then: the coverage stays that of every instance.
+#[test]
+fn hidden_instances_are_skipped_without_changing_the_coverage() {
+    let cam = camera(48, 36);
+    let target = ImageTarget::new(cam, vec![1.0; 48 * 36]).unwrap();
+    let targets = std::slice::from_ref(&target);
+    let cube = RasterShape::new("cube", &Mesh::unit_cube()).unwrap();
+    let leaf = RasterShape::new("leaf", &Mesh::leaf()).unwrap();
+    let at = |scale: f32, x: f32, y: f32, z: f32| {
+        Affine3A::from_scale_rotation_translation(
+            Vec3::splat(scale),
+            Quat::from_rotation_y(0.4),
+            Vec3::new(x, y, z),
+        )
+    };
+    // A big box, then a small box and a leaf inside it, a leaf behind it
+    // (seen from the camera), one peeking out at its side, and a leaf above
+    // the image.
+    let model = [
+        (&cube, at(2.0, 0.0, 0.0, 0.0)),
+        (&cube, at(0.3, 0.1, 0.2, 0.1)),
+        (&leaf, at(0.5, 0.0, 0.0, 0.0)),
+        (&leaf, at(0.5, -0.5, -0.4, 1.3)),
+        (&leaf, at(1.0, 1.8, 0.0, 0.0)),
+        (&leaf, at(1.0, 0.0, 8.0, 0.0)),
+    ];
+    let mut scratch = ImageScratch::new(targets);
+    scratch.begin();
+    for (shape, t) in &model {
+        scratch.add(targets, shape, t);
+    }
+    assert_eq!(
+        scratch.hidden(),
+        4,
+        "the small box, the leaf inside, the leaf behind, the leaf above"
+    );
+    assert_eq!(scratch.covered(0), &reference_coverage(&cam, &model)[..]);
+    // The same instances in the opposite order: nothing covers the ones
+    // drawn first, so only the off-image leaf is skipped.
+    scratch.begin();
+    for (shape, t) in model.iter().rev() {
+        scratch.add(targets, shape, t);
+    }
+    assert_eq!(scratch.hidden(), 1);
+    assert_eq!(scratch.covered(0), &reference_coverage(&cam, &model)[..]);
 }
 
 #[test]

@@ -45,6 +45,13 @@ impl RasterShape {
     }
 }
 
+/// A rectangle of pixels: rows `rows.0..rows.1`, columns `cols.0..cols.1`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct PixelRect {
+    pub(crate) rows: (u32, u32),
+    pub(crate) cols: (u32, u32),
+}
+
 /// A run of covered pixels: row `row`, columns `c0..c1` (exclusive).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PixelSpan {
@@ -85,8 +92,37 @@ impl Rasterizer {
         camera: &Camera,
         shape: &RasterShape,
         transform: &Affine3A,
-        mut f: impl FnMut(PixelSpan),
+        f: impl FnMut(PixelSpan),
     ) {
+        /// Spans to `f`, and no rectangle is ever covered.
+        struct Spans<F>(F);
+        impl<F: FnMut(PixelSpan)> Canvas for Spans<F> {
+            fn covers(&self, _: PixelRect) -> bool {
+                false
+            }
+            fn cover(&mut self, s: PixelSpan) {
+                (self.0)(s);
+            }
+        }
+        self.draw(camera, shape, transform, &mut Spans(f));
+    }
+
+    /// Covers the instance's silhouette on `canvas`, unless the instance
+    /// is wholly in the depth range and the canvas already covers a
+    /// rectangle holding every pixel it can reach; `false` in that case.
+    ///
+    /// The rectangle is a pixel wider on each side than the projected
+    /// vertices' bounding box: the crossings of the fill are computed from
+    /// those same pixel coordinates and stray from their range by a few
+    /// ulps at most. Beyond ±2³⁰ pixels (where a margin of a pixel might
+    /// not hold) the canvas is not asked.
+    pub(crate) fn draw(
+        &mut self,
+        camera: &Camera,
+        shape: &RasterShape,
+        transform: &Affine3A,
+        canvas: &mut impl Canvas,
+    ) -> bool {
         // Model and view in one map; every vertex transformed and projected
         // in one pass (those behind a perspective eye are only used through
         // clipping).
@@ -103,15 +139,35 @@ impl Rasterizer {
         }
         let (view, pixels) = (&mut self.view[..n], &mut self.pixels[..n]);
         let (mut finite, mut all_in) = (true, true);
+        let (mut lo, mut hi) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
         for ((p, v), px) in shape.positions.iter().zip(&mut *view).zip(&mut *pixels) {
             *v = m.transform_point3(*p);
             finite &= v.is_finite();
             all_in &= in_range(v);
             *px = proj.to_pixel(*v);
+            (lo, hi) = (lo.min(*px), hi.max(*px));
         }
         if !finite {
-            return;
+            return true;
         }
+        const FAR: f64 = (1u64 << 30) as f64;
+        if all_in && lo.cmpgt(DVec2::splat(-FAR)).all() && hi.cmplt(DVec2::splat(FAR)).all() {
+            let clamp = |x: f64, n: u32| x.clamp(0.0, f64::from(n)) as u32;
+            let rect = PixelRect {
+                rows: (
+                    clamp((lo.y - 1.0).floor(), camera.height),
+                    clamp((hi.y + 1.0).ceil(), camera.height),
+                ),
+                cols: (
+                    clamp((lo.x - 1.0).floor(), camera.width),
+                    clamp((hi.x + 1.0).ceil(), camera.width),
+                ),
+            };
+            if canvas.covers(rect) {
+                return false;
+            }
+        }
+        let mut f = |s| canvas.cover(s);
         if all_in {
             // The same pixels as every triangle, from the contour.
             contour::fill_contour(
@@ -122,7 +178,7 @@ impl Rasterizer {
                 &mut self.contour,
                 &mut f,
             );
-            return;
+            return true;
         }
         for t in &shape.triangles {
             let [a, b, c] = t.map(|i| i as usize);
@@ -145,7 +201,17 @@ impl Rasterizer {
                 .extend(self.clip.iter().map(|v| proj.to_pixel(*v)));
             fill_convex(camera, &self.hull, &mut self.edges, &mut f);
         }
+        true
     }
+}
+
+/// Where [`Rasterizer::draw`] puts spans, and what it asks before filling.
+pub(crate) trait Canvas {
+    /// Whether every pixel of `rect` is covered already (an empty
+    /// rectangle is).
+    fn covers(&self, rect: PixelRect) -> bool;
+    /// Covers `span`.
+    fn cover(&mut self, span: PixelSpan);
 }
 
 /// Clips a convex polygon in view space to `near <= Z <= far` (Sutherland–Hodgman).
