@@ -7,7 +7,7 @@ use glam::Affine3A;
 
 use crate::camera::Camera;
 use crate::error::ScoreError;
-use crate::raster::{Canvas, PixelRect, PixelSpan, RasterShape, Rasterizer};
+use crate::raster::{Layers, RasterShape, Rasterizer, View};
 
 /// One image target: a signed weight per pixel, seen through `camera`.
 /// Positive weights attract the silhouette, negative repel, zero is "don't care".
@@ -126,107 +126,19 @@ pub struct ImageCounts {
     pub bad: u64,
 }
 
-/// Per-thread working memory: a coverage mask per target (all clear between
-/// evaluations), the extent of the covered part of each row, and the rasterizer.
+/// Per-thread working memory: per target, how many triangles of the model
+/// cover each pixel centre, and the rasterizer.
 ///
-/// Spans only set mask bytes and widen their row's extent; the counts are
-/// taken once per model over the extents, and only they are cleared for the
-/// next model, so an evaluation costs what the model covers. An instance
-/// whose pixels are all covered already is not filled at all (see
-/// [`hidden`](Self::hidden)): in a tree, most branches inside the canopy.
+/// Every instance adds its triangles' edges to per-row differences of the
+/// counts (see [`raster`](crate::raster)); no instance paints over
+/// another. The counts are read once per model, over the part of each row
+/// the model touched, and only that part is cleared for the next model, so
+/// an evaluation costs what the model's silhouettes cross.
 #[derive(Clone, Debug)]
 pub struct ImageScratch {
-    masks: Vec<Mask>,
+    layers: Vec<Layers>,
+    views: Vec<View>,
     rasterizer: Rasterizer,
-    /// Instances (per target) skipped since `begin` because every pixel
-    /// they could cover already was.
-    hidden: u64,
-}
-
-/// The coverage of one target.
-#[derive(Clone, Debug)]
-struct Mask {
-    covered: Vec<bool>,
-    /// Per row, the covered columns lie in `extent.0..extent.1` (empty: `(u32::MAX, 0)`).
-    extent: Vec<(u32, u32)>,
-    /// Rows with a non-empty extent.
-    rows: Vec<u32>,
-    width: u32,
-}
-
-impl Mask {
-    fn new(width: u32, height: u32) -> Self {
-        Self {
-            covered: vec![false; (width * height) as usize],
-            extent: vec![(u32::MAX, 0); height as usize],
-            rows: Vec::new(),
-            width,
-        }
-    }
-
-    fn clear(&mut self) {
-        for &r in &self.rows {
-            let (c0, c1) = self.extent[r as usize];
-            let base = (r * self.width) as usize;
-            self.covered[base + c0 as usize..base + c1 as usize].fill(false);
-            self.extent[r as usize] = (u32::MAX, 0);
-        }
-        self.rows.clear();
-    }
-
-    /// Adds the covered pixels' counts. The weights are summed in four
-    /// independent lanes (then added in a fixed order): one running sum
-    /// would make every covered pixel wait for the previous addition.
-    fn count(&self, weights: &[f32], counts: &mut ImageCounts) {
-        let mut lanes = [0.0f64; 4];
-        let (mut good, mut bad) = (0u64, 0u64);
-        let mut add = |lane: &mut f64, m: bool, wt: f32| {
-            *lane += if m { f64::from(wt) } else { 0.0 };
-            good += u64::from(m & (wt > 0.0));
-            bad += u64::from(m & (wt < 0.0));
-        };
-        for &r in &self.rows {
-            let (c0, c1) = self.extent[r as usize];
-            let (a, b) = (
-                (r * self.width + c0) as usize,
-                (r * self.width + c1) as usize,
-            );
-            let mut covered = self.covered[a..b].chunks_exact(4);
-            let mut wts = weights[a..b].chunks_exact(4);
-            for (m, wt) in (&mut covered).zip(&mut wts) {
-                for k in 0..4 {
-                    add(&mut lanes[k], m[k], wt[k]);
-                }
-            }
-            for (&m, &wt) in covered.remainder().iter().zip(wts.remainder()) {
-                add(&mut lanes[0], m, wt);
-            }
-        }
-        counts.weight += (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]);
-        counts.good += good;
-        counts.bad += bad;
-    }
-}
-
-impl Canvas for Mask {
-    #[inline]
-    fn cover(&mut self, s: PixelSpan) {
-        let e = &mut self.extent[s.row as usize];
-        if e.0 == u32::MAX {
-            self.rows.push(s.row);
-        }
-        *e = (e.0.min(s.c0), e.1.max(s.c1));
-        let base = (s.row * self.width) as usize;
-        self.covered[base + s.c0 as usize..base + s.c1 as usize].fill(true);
-    }
-
-    fn covers(&self, rect: PixelRect) -> bool {
-        let (c0, c1) = rect.cols;
-        (rect.rows.0..rect.rows.1).all(|r| {
-            let base = (r * self.width) as usize;
-            !self.covered[base + c0 as usize..base + c1 as usize].contains(&false)
-        })
-    }
 }
 
 impl ImageScratch {
@@ -234,56 +146,107 @@ impl ImageScratch {
     #[must_use]
     pub fn new(targets: &[ImageTarget]) -> Self {
         Self {
-            masks: targets
+            layers: targets
                 .iter()
-                .map(|t| Mask::new(t.camera.width, t.camera.height))
+                .map(|t| Layers::new(t.camera.width, t.camera.height))
                 .collect(),
+            views: targets.iter().map(|t| View::new(&t.camera)).collect(),
             rasterizer: Rasterizer::new(),
-            hidden: 0,
         }
     }
 
     /// Starts a new model.
     pub fn begin(&mut self) {
-        self.masks.iter_mut().for_each(Mask::clear);
-        self.hidden = 0;
+        self.layers.iter_mut().for_each(Layers::clear);
     }
 
-    /// Adds one instance.
+    /// Adds one instance, seen by each of `targets` (those the scratch was
+    /// made for; others are taken in, at the cost of preparing them).
     pub fn add(&mut self, targets: &[ImageTarget], shape: &RasterShape, transform: &Affine3A) {
-        for (target, mask) in targets.iter().zip(&mut self.masks) {
-            // An instance whose pixels are all covered adds nothing (the
-            // coverage is a union): a branch inside a canopy is not filled.
-            let drawn = self.rasterizer.draw(&target.camera, shape, transform, mask);
-            self.hidden += u64::from(!drawn);
+        for ((target, layers), view) in targets.iter().zip(&mut self.layers).zip(&mut self.views) {
+            if view.camera() != &target.camera {
+                *view = View::new(&target.camera);
+                if layers.size() != (target.camera.width, target.camera.height) {
+                    *layers = Layers::new(target.camera.width, target.camera.height);
+                }
+            }
+            self.rasterizer.draw(view, shape, transform, layers);
         }
     }
 
     /// The counts of the model added since [`begin`](Self::begin), over
     /// all targets (each covered pixel counted once per target).
+    ///
+    /// Reads the counts over the part of each row the model touched; the
+    /// weights are summed in a fixed order, so the same model gives the
+    /// same sum.
     #[must_use]
     pub fn counts_for(&self, targets: &[ImageTarget]) -> ImageCounts {
         let mut counts = ImageCounts::default();
-        for (target, mask) in targets.iter().zip(&self.masks) {
-            mask.count(&target.weights, &mut counts);
+        for (target, layers) in targets.iter().zip(&self.layers) {
+            let width = target.camera.width as usize;
+            let mut lanes = [0.0f64; 4];
+            let (mut good, mut bad) = (0u64, 0u64);
+            layers.rows(|row, c0, diff| {
+                // The last cell (right of the image) counts for no pixel.
+                let diff = &diff[..diff.len().min(width - c0 as usize)];
+                let at = row as usize * width + c0 as usize;
+                let (l, g, b) = count_row(diff, &target.weights[at..at + diff.len()]);
+                for k in 0..4 {
+                    lanes[k] += l[k];
+                }
+                (good, bad) = (good + g, bad + b);
+            });
+            counts.weight += (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]);
+            counts.good += good;
+            counts.bad += bad;
         }
         counts
     }
 
-    /// How many instances (counted once per target) added since
-    /// [`begin`](Self::begin) were not filled because every pixel they
-    /// can reach (off the image: none) was already covered, so that they
-    /// could not change the coverage.
+    /// Which pixels of target `i` (row-major, row 0 at the top) the model
+    /// added since [`begin`](Self::begin) covers.
     #[must_use]
-    pub fn hidden(&self) -> u64 {
-        self.hidden
+    pub fn covered(&self, i: usize) -> Vec<bool> {
+        let layers = &self.layers[i];
+        let (w, h) = layers.size();
+        let mut out = vec![false; (w * h) as usize];
+        layers.covered_spans(|s| {
+            out[(s.row * w + s.c0) as usize..(s.row * w + s.c1) as usize].fill(true);
+        });
+        out
     }
+}
 
-    /// The coverage mask of target `i`.
-    #[must_use]
-    pub fn covered(&self, i: usize) -> &[bool] {
-        &self.masks[i].covered
+/// The weight sums (in four lanes), `G` and `B` of the covered pixels of
+/// one row part from its count differences and weights. Kept in locals (a
+/// closure adding to its caller's sums would go through memory at every
+/// pixel), the weights in four independent lanes: one running sum would
+/// make every covered pixel wait for the previous addition.
+#[inline]
+fn count_row(diff: &[i32], weights: &[f32]) -> ([f64; 4], u64, u64) {
+    let mut lanes = [0.0f64; 4];
+    let (mut good, mut bad) = (0u64, 0u64);
+    let mut count = 0;
+    let mut diff4 = diff.chunks_exact(4);
+    let mut weights4 = weights.chunks_exact(4);
+    for (d, wt) in (&mut diff4).zip(&mut weights4) {
+        for k in 0..4 {
+            count += d[k];
+            let m = count > 0;
+            lanes[k] += if m { f64::from(wt[k]) } else { 0.0 };
+            good += u64::from(m & (wt[k] > 0.0));
+            bad += u64::from(m & (wt[k] < 0.0));
+        }
     }
+    for (d, &wt) in diff4.remainder().iter().zip(weights4.remainder()) {
+        count += d;
+        let m = count > 0;
+        lanes[0] += if m { f64::from(wt) } else { 0.0 };
+        good += u64::from(m & (wt > 0.0));
+        bad += u64::from(m & (wt < 0.0));
+    }
+    (lanes, good, bad)
 }
 
 /// Parses a PFM image of `size` into row-major values, row 0 at the top.

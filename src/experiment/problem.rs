@@ -112,7 +112,7 @@ impl SceneOutputs for ImageTargets {
             } else {
                 dir.join(format!("overlay_{i}.png"))
             };
-            target.write_overlay(&path, scratch.covered(i))?;
+            target.write_overlay(&path, &scratch.covered(i))?;
             written.push(path);
         }
         Ok(written)

@@ -3,24 +3,30 @@
 //! A pixel is covered iff its centre lies inside the projection of some
 //! triangle of the model (no culling, no anti-aliasing), counting only the
 //! parts of triangles at depths in `[near, far]`. A mesh seen whole (every
-//! vertex in the depth range) is filled by one scanline sweep over its
-//! contour (see `contour`: the same pixels as every triangle; for a box or
-//! a frustum that is two crossings a row, cheaper than sorting its
-//! projected vertices for a convex hull); meshes cut by the near
-//! or far plane triangle by triangle, each clipped to the depth range in
-//! view space. A polygon covers the pixels of row `r`
-//! whose centres lie in `[x_left, x_right)` where the row's centre line
-//! crosses it, for rows whose centre lies in `[y_min, y_max)` (half-open,
-//! so a centre exactly on an edge counts for one side only).
+//! vertex in the depth range) is filled from its contour (see `contour`:
+//! the same pixels as every triangle, from far fewer edges); meshes cut by
+//! the near or far plane triangle by triangle, each clipped to the depth
+//! range in view space. Both add to per-pixel triangle counts kept as
+//! differences along each row (see `layers`), so that the instances of a
+//! model are never painted one over another: a pixel is covered iff its
+//! count over the whole model is positive.
+//!
+//! A polygon covers the pixels of row `r` whose centres lie in
+//! `[x_left, x_right)` where the row's centre line crosses it, for rows
+//! whose centre lies in `[y_min, y_max)` (half-open, so a centre exactly on
+//! an edge counts for one side only).
 
-use glam::{Affine3A, DVec2, DVec3};
+use glam::{Affine3A, DAffine3, DVec2, DVec3};
 
-use crate::camera::Camera;
+use crate::camera::{Camera, Projector};
 use crate::error::ScoreError;
 use crate::mesh::Mesh;
 use crate::solid::cross;
 
 mod contour;
+mod layers;
+
+pub(crate) use layers::Layers;
 
 /// A mesh prepared for rasterization.
 #[derive(Clone, Debug)]
@@ -45,11 +51,28 @@ impl RasterShape {
     }
 }
 
-/// A rectangle of pixels: rows `rows.0..rows.1`, columns `cols.0..cols.1`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) struct PixelRect {
-    pub(crate) rows: (u32, u32),
-    pub(crate) cols: (u32, u32),
+/// A camera with the constants of its view and projection, computed once
+/// for many instances.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct View {
+    camera: Camera,
+    affine: DAffine3,
+    projector: Projector,
+}
+
+impl View {
+    /// The constants of `camera`.
+    pub(crate) fn new(camera: &Camera) -> Self {
+        Self {
+            camera: *camera,
+            affine: camera.view_affine(),
+            projector: camera.projector(),
+        }
+    }
+    /// The camera.
+    pub(crate) fn camera(&self) -> &Camera {
+        &self.camera
+    }
 }
 
 /// A run of covered pixels: row `row`, columns `c0..c1` (exclusive).
@@ -73,6 +96,8 @@ pub struct Rasterizer {
     hull: Vec<DVec2>,
     edges: Vec<Edge>,
     contour: contour::ContourScratch,
+    /// The counts of one instance, for [`spans`](Self::spans).
+    layers: Layers,
 }
 
 /// A non-horizontal polygon edge: lower end, upper end, dx/dy.
@@ -85,8 +110,8 @@ impl Rasterizer {
         Self::default()
     }
 
-    /// Calls `f` for spans covering every pixel of the instance's silhouette
-    /// (spans of different triangles may overlap).
+    /// Calls `f` for spans covering every pixel of the instance's
+    /// silhouette, row by row, left to right, none overlapping.
     pub fn spans(
         &mut self,
         camera: &Camera,
@@ -94,40 +119,30 @@ impl Rasterizer {
         transform: &Affine3A,
         f: impl FnMut(PixelSpan),
     ) {
-        /// Spans to `f`, and no rectangle is ever covered.
-        struct Spans<F>(F);
-        impl<F: FnMut(PixelSpan)> Canvas for Spans<F> {
-            fn covers(&self, _: PixelRect) -> bool {
-                false
-            }
-            fn cover(&mut self, s: PixelSpan) {
-                (self.0)(s);
-            }
+        let mut layers = std::mem::take(&mut self.layers);
+        if layers.size() != (camera.width, camera.height) {
+            layers = Layers::new(camera.width, camera.height);
         }
-        self.draw(camera, shape, transform, &mut Spans(f));
+        self.draw(&View::new(camera), shape, transform, &mut layers);
+        layers.covered_spans(f);
+        layers.clear();
+        self.layers = layers;
     }
 
-    /// Covers the instance's silhouette on `canvas`, unless the instance
-    /// is wholly in the depth range and the canvas already covers a
-    /// rectangle holding every pixel it can reach; `false` in that case.
-    ///
-    /// The rectangle is a pixel wider on each side than the projected
-    /// vertices' bounding box: the crossings of the fill are computed from
-    /// those same pixel coordinates and stray from their range by a few
-    /// ulps at most. Beyond ±2³⁰ pixels (where a margin of a pixel might
-    /// not hold) the canvas is not asked.
+    /// Adds the instance's triangles to `layers` (of the camera's size).
     pub(crate) fn draw(
         &mut self,
-        camera: &Camera,
+        view: &View,
         shape: &RasterShape,
         transform: &Affine3A,
-        canvas: &mut impl Canvas,
-    ) -> bool {
+        layers: &mut Layers,
+    ) {
         // Model and view in one map; every vertex transformed and projected
         // in one pass (those behind a perspective eye are only used through
         // clipping).
-        let m = camera.view_affine() * crate::voxelize::to_f64(transform);
-        let proj = camera.projector();
+        let camera = &view.camera;
+        let m = view.affine * crate::voxelize::to_f64(transform);
+        let proj = view.projector;
         let (near, far) = (camera.near, camera.far);
         let in_range = |v: &DVec3| v.z >= near && v.z <= far;
         let n = shape.positions.len();
@@ -139,47 +154,55 @@ impl Rasterizer {
         }
         let (view, pixels) = (&mut self.view[..n], &mut self.pixels[..n]);
         let (mut finite, mut all_in) = (true, true);
-        let (mut lo, mut hi) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
         for ((p, v), px) in shape.positions.iter().zip(&mut *view).zip(&mut *pixels) {
             *v = m.transform_point3(*p);
             finite &= v.is_finite();
             all_in &= in_range(v);
             *px = proj.to_pixel(*v);
-            (lo, hi) = (lo.min(*px), hi.max(*px));
         }
-        if !finite {
-            return true;
-        }
-        const FAR: f64 = (1u64 << 30) as f64;
-        if all_in && lo.cmpgt(DVec2::splat(-FAR)).all() && hi.cmplt(DVec2::splat(FAR)).all() {
-            let clamp = |x: f64, n: u32| x.clamp(0.0, f64::from(n)) as u32;
-            let rect = PixelRect {
-                rows: (
-                    clamp((lo.y - 1.0).floor(), camera.height),
-                    clamp((hi.y + 1.0).ceil(), camera.height),
-                ),
-                cols: (
-                    clamp((lo.x - 1.0).floor(), camera.width),
-                    clamp((hi.x + 1.0).ceil(), camera.width),
-                ),
-            };
-            if canvas.covers(rect) {
-                return false;
+        // Four independent chains of comparisons: one would make every
+        // vertex wait for the previous comparison.
+        let mut lanes = [(DVec2::INFINITY, DVec2::NEG_INFINITY); 4];
+        let mut chunks = pixels.chunks_exact(4);
+        for chunk in &mut chunks {
+            for (lane, px) in lanes.iter_mut().zip(chunk) {
+                *lane = bounds(*lane, *px);
             }
         }
-        let mut f = |s| canvas.cover(s);
+        for px in chunks.remainder() {
+            lanes[0] = bounds(lanes[0], *px);
+        }
+        let (lo, hi) = lanes
+            .into_iter()
+            .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |a, (l, h)| {
+                bounds(bounds(a, l), h)
+            });
+        if !finite {
+            return;
+        }
         if all_in {
             // The same pixels as every triangle, from the contour.
+            // Every crossing lies within the projected vertices' bounding
+            // box, but for a few ulps of rounding: a pixel more each side.
+            let (w, h) = (f64::from(camera.width), f64::from(camera.height));
+            let (r0, r1) = row_range(lo.y, hi.y, h);
+            layers.widen(
+                (r0 as u32, r1 as u32),
+                (
+                    layers::column(lo.x - 1.0, w),
+                    layers::column(hi.x + 1.0, w) + 1,
+                ),
+            );
             contour::fill_contour(
-                camera,
                 pixels,
                 &shape.triangles,
                 &shape.edges,
                 &mut self.contour,
-                &mut f,
+                layers,
             );
-            return true;
+            return;
         }
+        let mut f = |s| layers.span(s);
         for t in &shape.triangles {
             let [a, b, c] = t.map(|i| i as usize);
             if in_range(&self.view[a]) && in_range(&self.view[b]) && in_range(&self.view[c]) {
@@ -201,17 +224,19 @@ impl Rasterizer {
                 .extend(self.clip.iter().map(|v| proj.to_pixel(*v)));
             fill_convex(camera, &self.hull, &mut self.edges, &mut f);
         }
-        true
     }
 }
 
-/// Where [`Rasterizer::draw`] puts spans, and what it asks before filling.
-pub(crate) trait Canvas {
-    /// Whether every pixel of `rect` is covered already (an empty
-    /// rectangle is).
-    fn covers(&self, rect: PixelRect) -> bool;
-    /// Covers `span`.
-    fn cover(&mut self, span: PixelSpan);
+/// The bounding box `(lo, hi)` widened to hold `p`, with plain
+/// comparisons (`f64::min` would also handle NaN, which is never there).
+#[inline(always)]
+fn bounds((lo, hi): (DVec2, DVec2), p: DVec2) -> (DVec2, DVec2) {
+    let min = |a: f64, b: f64| if b < a { b } else { a };
+    let max = |a: f64, b: f64| if b > a { b } else { a };
+    (
+        DVec2::new(min(lo.x, p.x), min(lo.y, p.y)),
+        DVec2::new(max(hi.x, p.x), max(hi.y, p.y)),
+    )
 }
 
 /// Clips a convex polygon in view space to `near <= Z <= far` (Sutherland–Hodgman).
@@ -482,12 +507,7 @@ mod tests {
     fn contour_filling_equals_every_triangle() {
         let camera = orthographic((48, 36));
         let mut rng = Lcg(11);
-        // As tuned; every row sorted; every row summed per column.
-        let mut rasterizers =
-            [(4, 8), (usize::MAX, 0), (0, usize::MAX)].map(|(sorted, spread)| Rasterizer {
-                contour: contour::ContourScratch::with_rows(sorted, spread),
-                ..Rasterizer::default()
-            });
+        let mut rasterizer = Rasterizer::default();
         for case in 0..400 {
             let pool = 4 + (rng.unit() * 12.0) as u32;
             let positions: Vec<glam::Vec3> = (0..pool)
@@ -511,17 +531,15 @@ mod tests {
                 continue;
             };
             let slow = every_triangle(&camera, &shape, &Affine3A::IDENTITY);
-            for (k, rasterizer) in rasterizers.iter_mut().enumerate() {
-                let mut fast = vec![false; (camera.width * camera.height) as usize];
-                rasterizer.spans(
-                    &camera,
-                    &shape,
-                    &Affine3A::IDENTITY,
-                    paint(&mut fast, camera.width),
-                );
-                let differ = (0..fast.len()).filter(|&i| fast[i] != slow[i]).count();
-                assert_eq!(differ, 0, "case {case}, rows {k}: {differ} pixels differ");
-            }
+            let mut fast = vec![false; (camera.width * camera.height) as usize];
+            rasterizer.spans(
+                &camera,
+                &shape,
+                &Affine3A::IDENTITY,
+                paint(&mut fast, camera.width),
+            );
+            let differ = (0..fast.len()).filter(|&i| fast[i] != slow[i]).count();
+            assert_eq!(differ, 0, "case {case}: {differ} pixels differ");
         }
     }
 

@@ -1,0 +1,145 @@
+//! How many triangles cover each pixel centre of an image, kept as
+//! differences along each row: a crossing of a row by an edge adds its
+//! winding contribution at the first column right of it, and a running sum
+//! along the row gives every centre's count. Counts add over instances, so
+//! a whole model is filled without ever sorting crossings or painting a
+//! span, and read once: a pixel is covered iff its count is positive.
+
+use super::{PixelSpan, ceil_small};
+
+/// Per-row differences of the triangle count over an image.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Layers {
+    width: u32,
+    height: u32,
+    /// Row-major, `width + 1` cells a row: cell `c` holds the count at
+    /// column `c` minus that at column `c − 1`; the last cell (right of the
+    /// image) takes crossings that count for no pixel. All zero outside the
+    /// extents.
+    diff: Vec<i32>,
+    /// Per row, the cells `extent.0..extent.1` that may be non-zero
+    /// (empty: `(u32::MAX, 0)`).
+    extent: Vec<(u32, u32)>,
+    /// The rows that may have a non-empty extent: `rows.0..rows.1`.
+    rows: (u32, u32),
+}
+
+impl Layers {
+    /// All-zero counts for a `width × height` image.
+    pub(crate) fn new(width: u32, height: u32) -> Self {
+        Self {
+            width,
+            height,
+            diff: vec![0; (width as usize + 1) * height as usize],
+            extent: vec![(u32::MAX, 0); height as usize],
+            rows: (height, 0),
+        }
+    }
+
+    /// The image's width and height.
+    pub(crate) fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
+    /// Sets every count back to zero, at the cost of what was touched.
+    pub(crate) fn clear(&mut self) {
+        let stride = self.width as usize + 1;
+        for r in self.rows.0..self.rows.1 {
+            let (c0, c1) = std::mem::replace(&mut self.extent[r as usize], (u32::MAX, 0));
+            if c0 < c1 {
+                let base = r as usize * stride;
+                self.diff[base + c0 as usize..base + c1 as usize].fill(0);
+            }
+        }
+        self.rows = (self.height, 0);
+    }
+
+    /// Widens the part that may hold non-zero differences to the cells
+    /// `cols.0..cols.1` of the rows `rows.0..rows.1` (`cols.1 <= width + 1`).
+    pub(crate) fn widen(&mut self, rows: (u32, u32), cols: (u32, u32)) {
+        if rows.0 >= rows.1 {
+            return;
+        }
+        self.rows = (self.rows.0.min(rows.0), self.rows.1.max(rows.1));
+        for e in &mut self.extent[rows.0 as usize..rows.1 as usize] {
+            *e = (e.0.min(cols.0), e.1.max(cols.1));
+        }
+    }
+
+    /// Adds `delta` to the counts of the pixels of row `row` whose centres
+    /// are at or right of `x`: those of columns `⌈x − ½⌉` on (`row` in the
+    /// image). The cell must lie in a part [widened](Self::widen) before:
+    /// elsewhere it would be neither read nor cleared.
+    #[inline(always)]
+    pub(crate) fn cross(&mut self, row: u32, x: f64, delta: i32) {
+        let c = column(x, f64::from(self.width));
+        let stride = self.width as usize + 1;
+        self.diff[row as usize * stride + c as usize] += delta;
+    }
+
+    /// Adds one to the counts of the pixels of `span`.
+    pub(crate) fn span(&mut self, s: PixelSpan) {
+        self.widen((s.row, s.row + 1), (s.c0, s.c1 + 1));
+        let base = s.row as usize * (self.width as usize + 1);
+        self.diff[base + s.c0 as usize] += 1;
+        self.diff[base + s.c1 as usize] -= 1;
+    }
+
+    /// Calls `f` with each row that may hold covered pixels, its first
+    /// column, and the differences from there (to one past the last cell
+    /// that may be non-zero; the count is zero left of them).
+    pub(crate) fn rows(&self, mut f: impl FnMut(u32, u32, &[i32])) {
+        let stride = self.width as usize + 1;
+        for r in self.rows.0..self.rows.1 {
+            let (c0, c1) = self.extent[r as usize];
+            if c0 < c1 {
+                let base = r as usize * stride;
+                f(r, c0, &self.diff[base + c0 as usize..base + c1 as usize]);
+            }
+        }
+    }
+
+    /// Calls `f` with the runs of covered pixels (positive count), row by
+    /// row, left to right.
+    pub(crate) fn covered_spans(&self, mut f: impl FnMut(PixelSpan)) {
+        let w = self.width;
+        self.rows(|row, c0, diff| {
+            let mut count = 0;
+            let mut start = None;
+            for (c, d) in (c0..).zip(diff) {
+                count += d;
+                match (count > 0, start) {
+                    (true, None) => start = Some(c),
+                    (false, Some(s)) => {
+                        if s < c.min(w) {
+                            f(PixelSpan {
+                                row,
+                                c0: s,
+                                c1: c.min(w),
+                            });
+                        }
+                        start = None;
+                    }
+                    _ => {}
+                }
+            }
+            if let Some(s) = start {
+                // Only a count that does not return to zero (absurd
+                // coordinates) leaves a run open at the last cell.
+                let c1 = (c0 + diff.len() as u32).min(w);
+                if s < c1 {
+                    f(PixelSpan { row, c0: s, c1 });
+                }
+            }
+        });
+    }
+}
+
+/// The first column whose pixel centre is at or right of `x`, clamped to
+/// `0..=w` (`w`: right of the image); a NaN crossing counts as left of it.
+#[inline(always)]
+pub(crate) fn column(x: f64, w: f64) -> u32 {
+    let x = if x > -1.0 { x } else { -1.0 };
+    let x = if x < w + 1.0 { x } else { w + 1.0 };
+    ceil_small(x - 0.5).clamp(0, w as i32) as u32
+}
