@@ -139,7 +139,9 @@ impl Layers {
 /// `0..=w` (`w`: right of the image); a NaN crossing counts as left of it.
 #[inline(always)]
 pub(crate) fn column(x: f64, w: f64) -> u32 {
-    let x = if x > -1.0 { x } else { -1.0 };
-    let x = if x < w + 1.0 { x } else { w + 1.0 };
-    ceil_small(x - 0.5).clamp(0, w as i32) as u32
+    // Clamped first: `⌈x − ½⌉` is 0 at x = 0 and w at x = w, and the
+    // clamped value is small enough for `ceil_small`.
+    let x = if x > 0.0 { x } else { 0.0 };
+    let x = if x < w { x } else { w };
+    ceil_small(x - 0.5) as u32
 }
