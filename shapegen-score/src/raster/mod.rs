@@ -160,27 +160,11 @@ impl Rasterizer {
             all_in &= in_range(v);
             *px = proj.to_pixel(*v);
         }
-        // Four independent chains of comparisons: one would make every
-        // vertex wait for the previous comparison.
-        let mut lanes = [(DVec2::INFINITY, DVec2::NEG_INFINITY); 4];
-        let mut chunks = pixels.chunks_exact(4);
-        for chunk in &mut chunks {
-            for (lane, px) in lanes.iter_mut().zip(chunk) {
-                *lane = bounds(*lane, *px);
-            }
-        }
-        for px in chunks.remainder() {
-            lanes[0] = bounds(lanes[0], *px);
-        }
-        let (lo, hi) = lanes
-            .into_iter()
-            .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |a, (l, h)| {
-                bounds(bounds(a, l), h)
-            });
         if !finite {
             return;
         }
         if all_in {
+            let (lo, hi) = pixel_bounds(pixels);
             // The same pixels as every triangle, from the contour.
             // Every crossing lies within the projected vertices' bounding
             // box, but for a few ulps of rounding: a pixel more each side.
@@ -225,6 +209,27 @@ impl Rasterizer {
             fill_convex(camera, &self.hull, &mut self.edges, &mut f);
         }
     }
+}
+
+/// The bounding box `(lo, hi)` of `pixels` (all finite). Four independent
+/// chains of comparisons: one would make every point wait for the previous
+/// comparison.
+fn pixel_bounds(pixels: &[DVec2]) -> (DVec2, DVec2) {
+    let mut lanes = [(DVec2::INFINITY, DVec2::NEG_INFINITY); 4];
+    let mut chunks = pixels.chunks_exact(4);
+    for chunk in &mut chunks {
+        for (lane, px) in lanes.iter_mut().zip(chunk) {
+            *lane = bounds(*lane, *px);
+        }
+    }
+    for px in chunks.remainder() {
+        lanes[0] = bounds(lanes[0], *px);
+    }
+    lanes
+        .into_iter()
+        .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |a, (l, h)| {
+            bounds(bounds(a, l), h)
+        })
 }
 
 /// The bounding box `(lo, hi)` widened to hold `p`, with plain
