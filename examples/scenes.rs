@@ -12,6 +12,7 @@ use shapegen::express::{CountingSink, Generator};
 use shapegen::prelude::*;
 use shapegen::rng::stream;
 use shapegen::scenes::{GridCity, SpaceFillingCity, Spaceship, TreeV1, TreeV2};
+use shapegen::score::ShapeMeshes;
 use shapegen::score::obj::write_model;
 
 /// A random individual of about `genes` genes, written to `out/<name>.obj`.
@@ -30,7 +31,12 @@ fn write<G: Generator>(
     let mut count = CountingSink::default();
     generator.express(&chromosome, &mut count);
     let path = Path::new("out").join(format!("{name}.obj"));
-    write_model(&path, generator, &chromosome)?;
+    write_model(
+        &path,
+        generator,
+        &chromosome,
+        &ShapeMeshes::builtin(generator)?,
+    )?;
     println!(
         "{:<28} {:>4} genes, {:>4} instances",
         path.display(),

@@ -103,8 +103,12 @@ pub use shapegen_core::__private;
 pub use shapegen_macros::generator;
 pub use shapegen_score as score;
 
+#[cfg(feature = "cli")]
+pub mod cli;
 pub mod demo;
 pub mod experiment;
+pub mod output;
+pub mod registry;
 pub mod scenes;
 
 /// The README's code, compiled and run as a doctest so it cannot rot.

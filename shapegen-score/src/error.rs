@@ -42,6 +42,14 @@ pub enum ScoreError {
     /// A target that cannot be used.
     #[error("invalid target: {0}")]
     Target(String),
+    /// A scene whose targets cover no cell at all.
+    #[error("invalid target: {reason}")]
+    EmptyTarget {
+        /// The first target (index in the scene's list), all being empty.
+        target: usize,
+        /// Why it covers no cell.
+        reason: String,
+    },
     /// Reading or writing a file failed.
     #[error("{}: {source}", path.display())]
     Io {

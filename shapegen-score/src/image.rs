@@ -9,6 +9,84 @@ use crate::camera::Camera;
 use crate::error::ScoreError;
 use crate::raster::{Layers, RasterShape, Rasterizer, View};
 
+/// Which pixels of a PNG are target. Every rule reads transparency: the
+/// colour rules see each pixel composited over white, so a transparent
+/// pixel is never target by its colour alone.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PngMask {
+    /// Red channel exactly 0 (after compositing over white): the paper's
+    /// sketches (black or blue strokes on white).
+    Red0,
+    /// Luminance (Rec. 709, of the colour composited over white) below
+    /// `threshold` in `[0, 1]`: a dark drawing or shaded render on a light
+    /// background.
+    Dark {
+        /// Luminance threshold (0.5 is a good default).
+        threshold: f32,
+    },
+    /// Opacity at least `threshold` in `[0, 1]`, whatever the colour: a
+    /// cut-out on a transparent background.
+    Alpha {
+        /// Opacity threshold (0.5 is a good default).
+        threshold: f32,
+    },
+    /// Opaque (opacity at least ½) and dark (luminance of the colour itself
+    /// below `threshold`): dark strokes on a transparent background with
+    /// light opaque parts that are not target.
+    AlphaDark {
+        /// Luminance threshold (0.5 is a good default).
+        threshold: f32,
+    },
+}
+
+impl PngMask {
+    /// The rule's name in experiment files (`red0`, `dark`, `alpha`, `alpha_dark`).
+    #[must_use]
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Red0 => "red0",
+            Self::Dark { .. } => "dark",
+            Self::Alpha { .. } => "alpha",
+            Self::AlphaDark { .. } => "alpha_dark",
+        }
+    }
+
+    /// Whether an RGBA pixel is target.
+    #[must_use]
+    pub fn selects(&self, [r, g, b, a]: [u8; 4]) -> bool {
+        let unit = |c: u8| f32::from(c) / 255.0;
+        let alpha = unit(a);
+        // Over white: c' = α c + (1 − α).
+        let over_white = |c: u8| alpha * unit(c) + (1.0 - alpha);
+        let luminance = |r: f32, g: f32, b: f32| 0.2126 * r + 0.7152 * g + 0.0722 * b;
+        match *self {
+            // Exactly 0 over white needs an opaque pixel with red 0.
+            Self::Red0 => a == 255 && r == 0,
+            Self::Dark { threshold } => {
+                luminance(over_white(r), over_white(g), over_white(b)) < threshold
+            }
+            Self::Alpha { threshold } => alpha >= threshold,
+            Self::AlphaDark { threshold } => {
+                alpha >= 0.5 && luminance(unit(r), unit(g), unit(b)) < threshold
+            }
+        }
+    }
+
+    fn hint(&self) -> &'static str {
+        match self {
+            Self::Red0 => {
+                "the paper's rule wants strokes with red 0 on white; for a drawing or render use mask = \"dark\", for a transparent background mask = \"alpha\""
+            }
+            Self::Dark { .. } | Self::AlphaDark { .. } => {
+                "change `threshold` (luminance 0 to 1), or use mask = \"alpha\" for a cut-out on a transparent background"
+            }
+            Self::Alpha { .. } => {
+                "the image has no transparent (or no opaque) part: use mask = \"dark\" or \"red0\""
+            }
+        }
+    }
+}
+
 /// One image target: a signed weight per pixel, seen through `camera`.
 /// Positive weights attract the silhouette, negative repel, zero is "don't care".
 #[derive(Clone, Debug, PartialEq)]
@@ -37,12 +115,27 @@ impl ImageTarget {
         Ok(Self { camera, weights })
     }
 
-    /// A target from a PNG sketch: pixels whose red channel is exactly 0
-    /// are target (weight `target`), all others background (weight
-    /// `background`, e.g. negative). The PNG must have the camera's size.
+    /// A target from a PNG sketch with the paper's rule ([`PngMask::Red0`]):
+    /// pixels whose red channel is exactly 0 are target (weight `target`),
+    /// all others background (weight `background`, e.g. negative).
     pub fn from_png(
         path: &Path,
         camera: Camera,
+        target: f32,
+        background: f32,
+    ) -> Result<Self, ScoreError> {
+        Self::from_png_masked(path, camera, PngMask::Red0, target, background)
+    }
+
+    /// A target from a PNG: the pixels `mask` selects are target (weight
+    /// `target`), all others background (weight `background`). The PNG must
+    /// have the camera's size; transparency is always read (see
+    /// [`PngMask`]). An image with no target pixel, or only target pixels,
+    /// is an error: the score could not tell models apart.
+    pub fn from_png_masked(
+        path: &Path,
+        camera: Camera,
+        mask: PngMask,
         target: f32,
         background: f32,
     ) -> Result<Self, ScoreError> {
@@ -50,19 +143,35 @@ impl ImageTarget {
             path: path.to_path_buf(),
             reason,
         };
-        let img = image::open(path).map_err(|e| bad(e.to_string()))?.to_rgb8();
+        let img = image::open(path)
+            .map_err(|e| bad(e.to_string()))?
+            .to_rgba8();
         if (img.width(), img.height()) != (camera.width, camera.height) {
             return Err(bad(format!(
-                "the image is {}×{} but the camera renders {}×{}",
+                "the image is {}×{} pixels but the scene renders {}×{} (its width × height)",
                 img.width(),
                 img.height(),
                 camera.width,
                 camera.height
             )));
         }
-        let weights = img
-            .pixels()
-            .map(|p| if p.0[0] == 0 { target } else { background })
+        let selected: Vec<bool> = img.pixels().map(|p| mask.selects(p.0)).collect();
+        let count = selected.iter().filter(|&&s| s).count();
+        if count == 0 || count == selected.len() {
+            let what = if count == 0 {
+                "no pixel"
+            } else {
+                "every pixel"
+            };
+            return Err(bad(format!(
+                "the mask `{}` makes {what} a target pixel: {}",
+                mask.name(),
+                mask.hint()
+            )));
+        }
+        let weights = selected
+            .into_iter()
+            .map(|s| if s { target } else { background })
             .collect();
         Self::new(camera, weights)
     }

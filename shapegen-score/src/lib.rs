@@ -22,10 +22,12 @@
 
 pub mod camera;
 pub mod error;
+pub mod files;
 pub mod grid;
 pub mod image;
 pub mod mesh;
 pub mod obj;
+pub mod quality;
 pub mod raster;
 pub mod score;
 pub mod solid;
@@ -34,6 +36,11 @@ pub mod voxelize;
 
 pub use error::ScoreError;
 pub use grid::Grid;
-pub use mesh::Mesh;
+pub use mesh::{Mesh, Placement, fit_transform};
+pub use obj::ShapeMeshes;
+pub use quality::Quality;
+pub use score::{
+    ImageFitness, ImageScore, ImageTargets, ModelFitness, Scene, VolumeFitness, VolumeScore,
+};
 pub use solid::{Inside, Solid};
 pub use voxelize::{Span, Voxelizer};

@@ -7,6 +7,88 @@ use glam::Vec3;
 
 use crate::error::ScoreError;
 
+/// Where a mesh (e.g. a target in its own units) goes in the world: scaled,
+/// then rotated about x, then y, then z (degrees, right-handed:
+/// counter-clockwise seen from the axis's positive end), then translated;
+/// then, if `fit` is given, scaled uniformly and centred into that box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Placement {
+    /// Scale per axis (`Vec3::splat(s)` keeps proportions).
+    pub scale: Vec3,
+    /// Rotation angles about x, y and z in degrees, applied in that order.
+    pub rotate_degrees: Vec3,
+    /// Translation.
+    pub translate: Vec3,
+    /// A box to fit the placed mesh into (see [`Mesh::fit_into`]).
+    pub fit: Option<(Vec3, Vec3)>,
+}
+
+impl Default for Placement {
+    fn default() -> Self {
+        Self {
+            scale: Vec3::ONE,
+            rotate_degrees: Vec3::ZERO,
+            translate: Vec3::ZERO,
+            fit: None,
+        }
+    }
+}
+
+/// The uniform scale and shift that fits the box `bounds` into `[min, max]`
+/// (see [`Mesh::fit_into`]).
+#[must_use]
+pub fn fit_transform((lo, hi): (Vec3, Vec3), min: Vec3, max: Vec3) -> glam::Affine3A {
+    let size = (hi - lo).as_dvec3();
+    let room = (max - min).as_dvec3();
+    let scale = (0..3)
+        .filter(|&a| size[a] > 0.0)
+        .map(|a| room[a] / size[a])
+        .fold(f64::INFINITY, f64::min);
+    let scale = if scale.is_finite() { scale } else { 1.0 };
+    let from = ((lo + hi) * 0.5).as_dvec3();
+    let to = ((min + max) * 0.5).as_dvec3();
+    glam::Affine3A::from_scale_rotation_translation(
+        Vec3::splat(scale as f32),
+        glam::Quat::IDENTITY,
+        (to - from * scale).as_vec3(),
+    )
+}
+
+impl Placement {
+    /// Places several meshes as one (their arrangement is kept): the same
+    /// scale, rotation and translation for each, then one fit of their
+    /// common bounds.
+    #[must_use]
+    pub fn place_all<'a>(&self, meshes: impl IntoIterator<Item = &'a Mesh>) -> Vec<Mesh> {
+        let moved: Vec<Mesh> = meshes
+            .into_iter()
+            .map(|m| m.transformed(&self.transform()))
+            .collect();
+        let Some((min, max)) = self.fit else {
+            return moved;
+        };
+        let bounds = moved.iter().map(Mesh::bounds).fold(
+            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+            |(lo, hi), (a, b)| (lo.min(a), hi.max(b)),
+        );
+        let fit = fit_transform(bounds, min, max);
+        moved.iter().map(|m| m.transformed(&fit)).collect()
+    }
+
+    /// The scale, rotation and translation as one transform (without `fit`).
+    #[must_use]
+    pub fn transform(&self) -> glam::Affine3A {
+        let r = self.rotate_degrees * (std::f32::consts::PI / 180.0);
+        let rotation = glam::Mat3::from_rotation_z(r.z)
+            * glam::Mat3::from_rotation_y(r.y)
+            * glam::Mat3::from_rotation_x(r.x);
+        glam::Affine3A::from_mat3_translation(
+            rotation * glam::Mat3::from_diagonal(self.scale),
+            self.translate,
+        )
+    }
+}
+
 /// An indexed triangle mesh.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
@@ -263,8 +345,10 @@ impl Mesh {
         Ok(mesh)
     }
 
-    /// The same mesh scaled and moved to fill the unit box `[−½, ½]³` per
-    /// axis (the paper's convention for shape meshes; a flat axis stays flat).
+    /// The same mesh scaled and moved to fill the unit box `[−½, ½]³` *per
+    /// axis* (the paper's convention for shape meshes: each axis is scaled on
+    /// its own, so proportions change; a flat axis stays flat). To keep the
+    /// proportions use [`fit_into`](Self::fit_into).
     #[must_use]
     pub fn normalized(&self) -> Self {
         let (lo, hi) = self.bounds();
@@ -279,6 +363,39 @@ impl Mesh {
                 .collect(),
             triangles: self.triangles.clone(),
         }
+    }
+
+    /// The mesh with every vertex moved by `transform` (triangles are kept;
+    /// a mirroring transform leaves them inside out).
+    #[must_use]
+    pub fn transformed(&self, transform: &glam::Affine3A) -> Self {
+        Self {
+            positions: self
+                .positions
+                .iter()
+                .map(|p| transform.transform_point3(*p))
+                .collect(),
+            triangles: self.triangles.clone(),
+        }
+    }
+
+    /// The mesh scaled uniformly (proportions kept) and centred so that its
+    /// bounding box fits the box `[min, max]` as tightly as possible: the
+    /// scale is the smallest ratio of box size to mesh size over the axes
+    /// where the mesh is not flat. A mesh flat on every axis (a point) is
+    /// only moved to the box's centre.
+    #[must_use]
+    pub fn fit_into(&self, min: Vec3, max: Vec3) -> Self {
+        self.transformed(&fit_transform(self.bounds(), min, max))
+    }
+
+    /// The mesh placed by `placement` (see [`Placement`]).
+    #[must_use]
+    pub fn placed(&self, placement: &Placement) -> Self {
+        placement
+            .place_all([self])
+            .pop()
+            .expect("one mesh in, one out")
     }
 
     /// The smallest axis-aligned box holding every vertex, as (min, max).
@@ -305,6 +422,55 @@ impl Mesh {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn fit_into_keeps_proportions_and_fills_the_tightest_axis() {
+        // A 2 × 1 × 1 box, 1000× too large, fitted into [0, 4] × [0, 4] × [0, 1].
+        let big = super::Mesh::unit_cube().transformed(&glam::Affine3A::from_scale(
+            glam::Vec3::new(2000.0, 1000.0, 1000.0),
+        ));
+        let fitted = big.fit_into(glam::Vec3::ZERO, glam::Vec3::new(4.0, 4.0, 1.0));
+        let (lo, hi) = fitted.bounds();
+        let size = hi - lo;
+        // z is the tightest (1 / 1000): the box becomes 2 × 1 × 1, centred.
+        assert!(
+            (size - glam::Vec3::new(2.0, 1.0, 1.0)).abs().max_element() < 1e-5,
+            "{size}"
+        );
+        assert!(
+            ((lo + hi) * 0.5 - glam::Vec3::new(2.0, 2.0, 0.5))
+                .abs()
+                .max_element()
+                < 1e-5
+        );
+        // A point is only moved.
+        let point = super::Mesh {
+            positions: vec![glam::Vec3::ONE; 3],
+            triangles: vec![[0, 1, 2]],
+        };
+        let moved = point.fit_into(glam::Vec3::ZERO, glam::Vec3::splat(2.0));
+        assert_eq!(moved.positions[0], glam::Vec3::ONE);
+    }
+
+    #[test]
+    fn placement_scales_then_rotates_then_translates() {
+        let p = super::Placement {
+            scale: glam::Vec3::new(2.0, 1.0, 1.0),
+            rotate_degrees: glam::Vec3::new(0.0, 0.0, 90.0),
+            translate: glam::Vec3::new(0.0, 0.0, 5.0),
+            fit: None,
+        };
+        // (1, 0, 0) → scaled (2, 0, 0) → rotated about z to (0, 2, 0) → (0, 2, 5).
+        let q = p.transform().transform_point3(glam::Vec3::X);
+        assert!((q - glam::Vec3::new(0.0, 2.0, 5.0)).length() < 1e-5, "{q}");
+        // Rotations apply about x first, then y: (0, 1, 0) → x 90° → (0, 0, 1) → y 90° → (1, 0, 0).
+        let p = super::Placement {
+            rotate_degrees: glam::Vec3::new(90.0, 90.0, 0.0),
+            ..Default::default()
+        };
+        let q = p.transform().transform_point3(glam::Vec3::Y);
+        assert!((q - glam::Vec3::X).length() < 1e-5, "{q}");
+    }
+
     use super::*;
 
     /// Welding keeps every triangle's corner positions and leaves one

@@ -8,6 +8,7 @@ use shapegen_core::express::{Generator, Instance, Instances};
 use shapegen_core::genome::Chromosome;
 
 use crate::error::ScoreError;
+use crate::files::write_atomically;
 use crate::mesh::Mesh;
 
 /// The meshes of a generator's shapes, indexed by shape id.
@@ -103,21 +104,29 @@ pub fn write_obj<W: Write>(
 }
 
 /// Expresses `chromosome` with `generator` and writes the model to `path`
-/// as OBJ, using the built-in mesh of each shape.
+/// as OBJ with `shapes` (e.g. [`ShapeMeshes::builtin`], or the meshes a
+/// fitness scores with: `ModelFitness::meshes`), atomically: a temporary
+/// file beside `path`, then a rename. Fails if `shapes` does not hold one
+/// mesh per shape of the generator.
 pub fn write_model<G: Generator>(
     path: &Path,
     generator: &G,
     chromosome: &Chromosome,
+    shapes: &ShapeMeshes,
 ) -> Result<(), ScoreError> {
-    let shapes = ShapeMeshes::builtin(generator)?;
+    let names = generator.shapes();
+    if shapes.len() != names.len() {
+        return Err(ScoreError::Target(format!(
+            "{} meshes for the generator's {} shapes",
+            shapes.len(),
+            names.len()
+        )));
+    }
     let mut model = Instances::default();
     generator.express(chromosome, &mut model);
-    let io = |source| ScoreError::Io {
-        path: path.to_path_buf(),
-        source,
-    };
-    let file = std::fs::File::create(path).map_err(io)?;
-    write_obj(io::BufWriter::new(file), &model.0, &shapes).map_err(io)
+    let mut text = Vec::new();
+    write_obj(&mut text, &model.0, shapes).expect("writing to memory cannot fail");
+    write_atomically(path, &text)
 }
 
 #[cfg(test)]

@@ -244,6 +244,25 @@ impl ImageTargets {
     pub fn target_pixels(&self) -> u64 {
         self.target_pixels
     }
+
+    /// Per target: how the model in `scratch` (right after it was counted)
+    /// covers its pixels of positive weight.
+    #[must_use]
+    pub fn quality(&self, scratch: &ImageScratch) -> Vec<crate::Quality> {
+        self.targets
+            .iter()
+            .enumerate()
+            .map(|(i, t)| {
+                let covered = scratch.covered(i);
+                let (mut both, mut model) = (0u64, 0u64);
+                for (&c, &w) in covered.iter().zip(&t.weights) {
+                    model += u64::from(c);
+                    both += u64::from(c && w > 0.0);
+                }
+                crate::Quality::from_counts(both, model, t.target_pixels())
+            })
+            .collect()
+    }
 }
 
 impl Scene for ImageTargets {
@@ -279,6 +298,8 @@ impl Scene for ImageTargets {
 pub struct ModelFitness<G, S: Scene> {
     generator: G,
     scene: S,
+    /// The meshes the shapes were prepared from (what a written model shows).
+    meshes: ShapeMeshes,
     shapes: Vec<S::Shape>,
     score: S::Score,
     limits: Limits,
@@ -291,13 +312,27 @@ pub type VolumeFitness<G> = ModelFitness<G, VolumeScene>;
 pub type ImageFitness<G> = ModelFitness<G, ImageTargets>;
 
 impl<G: Generator, S: Scene> ModelFitness<G, S> {
-    /// A fitness for `generator`'s models on `scene`, with one mesh per shape.
+    /// A fitness for `generator`'s models on `scene`, with one mesh per shape
+    /// (`shapes` must name the generator's shapes, in its order).
     pub fn new(
         generator: G,
         scene: S,
         shapes: &ShapeMeshes,
         score: S::Score,
     ) -> Result<Self, ScoreError> {
+        let names = generator.shapes();
+        if shapes.len() != names.len()
+            || (0..names.len()).any(|i| shapes.name(i as u16) != names[i])
+        {
+            return Err(ScoreError::Target(format!(
+                "the meshes are for shapes [{}], the generator emits [{}]",
+                (0..shapes.len())
+                    .map(|i| shapes.name(i as u16))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                names.join(", ")
+            )));
+        }
         let prepared = (0..generator.shapes().len())
             .map(|i| scene.prepare(shapes.name(i as u16), shapes.mesh(i as u16)))
             .collect::<Result<_, _>>()?;
@@ -305,6 +340,7 @@ impl<G: Generator, S: Scene> ModelFitness<G, S> {
         Ok(Self {
             generator,
             scene,
+            meshes: shapes.clone(),
             shapes: prepared,
             score,
             limits,
@@ -323,6 +359,37 @@ impl<G: Generator, S: Scene> ModelFitness<G, S> {
     #[must_use]
     pub fn scene(&self) -> &S {
         &self.scene
+    }
+
+    /// The generator.
+    #[must_use]
+    pub fn generator(&self) -> &G {
+        &self.generator
+    }
+
+    /// The meshes the shapes are scored with (the built-in ones or their
+    /// replacements): what [`write_obj`](Self::write_obj) writes.
+    #[must_use]
+    pub fn meshes(&self) -> &ShapeMeshes {
+        &self.meshes
+    }
+
+    /// The limits of the length term.
+    #[must_use]
+    pub fn limits(&self) -> &Limits {
+        &self.limits
+    }
+
+    /// Writes the model of `chromosome` as OBJ with the meshes it is scored
+    /// with, so the file shows exactly the scored model.
+    pub fn write_obj<W: std::io::Write>(
+        &self,
+        out: W,
+        chromosome: &Chromosome,
+    ) -> std::io::Result<()> {
+        let mut model = shapegen_core::express::Instances::default();
+        self.generator.express(chromosome, &mut model);
+        crate::obj::write_obj(out, &model.0, &self.meshes)
     }
 
     /// Expresses `chromosome` into `scratch` and returns its counts (the

@@ -57,6 +57,12 @@ pub struct VolumeScene {
     /// Whether each cell is inside some target.
     target: Vec<bool>,
     target_cells: u64,
+    /// Per target (only with two or more): whether each cell is inside it.
+    members: Vec<Vec<bool>>,
+    /// Per target: the cells inside it.
+    cells_of: Vec<u64>,
+    /// Per target: why it covers no cell (`None` if it covers some).
+    empty: Vec<Option<String>>,
     /// `Σ_i w̃_i`: the weight of a model cell outside the grid (outside every target).
     outside_sum: f64,
     outside_count: OutsideCount,
@@ -72,6 +78,9 @@ impl VolumeScene {
         let mut inside = vec![false; n];
         let mut warnings = Vec::new();
         let mut vox = Voxelizer::new();
+        let mut members = Vec::new();
+        let mut cells_of = Vec::new();
+        let mut empty: Vec<Option<String>> = Vec::new();
         for t in targets {
             if !t.fill.is_finite() || !t.outside.is_finite() {
                 return Err(ScoreError::Target(format!(
@@ -96,17 +105,36 @@ impl VolumeScene {
                     inside[i] = true;
                 }
             });
+            let cells = inside.iter().filter(|&&c| c).count() as u64;
+            if cells == 0 {
+                empty.push(Some(empty_target(&grid, t, &solid)));
+            } else {
+                empty.push(None);
+            }
+            cells_of.push(cells);
             for ((w, tg), &ins) in weight.iter_mut().zip(target.iter_mut()).zip(&inside) {
                 *w += if ins { t.fill } else { t.outside };
                 *tg |= ins;
             }
+            if targets.len() > 1 {
+                members.push(inside.clone());
+            }
         }
         let target_cells = target.iter().filter(|&&t| t).count() as u64;
+        if target_cells == 0
+            && let Some(reason) = empty.first().cloned().flatten()
+        {
+            return Err(ScoreError::EmptyTarget { target: 0, reason });
+        }
+        warnings.extend(empty.iter().flatten().cloned());
         Ok(Self {
             grid,
             weight: weight.into_iter().map(|w| w as f32).collect(),
             target,
             target_cells,
+            members,
+            cells_of,
+            empty,
             outside_sum: targets.iter().map(|t| t.outside).sum(),
             outside_count: OutsideCount::Solid,
             warnings,
@@ -150,10 +178,83 @@ impl VolumeScene {
         &self.warnings
     }
 
+    /// Cells inside target `i` (in the order given to [`new`](Self::new)).
+    #[must_use]
+    pub fn cells_of(&self, i: usize) -> u64 {
+        self.cells_of[i]
+    }
+
+    /// Why target `i` covers no cell centre (outside the grid, not closed,
+    /// flat or too small), or `None` if it covers some. A scene whose
+    /// targets all cover none is refused by [`new`](Self::new); one empty
+    /// target among others is a warning.
+    #[must_use]
+    pub fn why_empty(&self, i: usize) -> Option<&str> {
+        self.empty[i].as_deref()
+    }
+
+    /// Per target (in the order given to [`new`](Self::new)): how the model
+    /// in `scratch` (right after it was counted) covers its cells. Model
+    /// cells outside the grid count as model cells outside every target.
+    #[must_use]
+    pub fn quality(&self, scratch: &VolumeScratch) -> Vec<crate::Quality> {
+        let hits = scratch.hits();
+        let model = hits.iter().filter(|&&h| h > 0).count() as u64 + scratch.counts().outside;
+        let of = |mask: &[bool]| {
+            let (mut both, mut target) = (0u64, 0u64);
+            for (&h, &m) in hits.iter().zip(mask) {
+                target += u64::from(m);
+                both += u64::from(m && h > 0);
+            }
+            crate::Quality::from_counts(both, model, target)
+        };
+        if self.members.is_empty() {
+            vec![of(&self.target)]
+        } else {
+            self.members.iter().map(|m| of(m)).collect()
+        }
+    }
+
     /// Whether cell `i` (linear index) is a target cell.
     #[must_use]
     pub fn is_target(&self, i: usize) -> bool {
         self.target[i]
+    }
+}
+
+/// Why target `t` covers no cell of `grid`, in words.
+fn empty_target(grid: &Grid, t: &VolumeTarget, solid: &Solid) -> String {
+    let (lo, hi) = t.mesh.bounds();
+    let (glo, ghi) = (grid.min(), grid.max());
+    let (lo, hi) = (lo.as_dvec3(), hi.as_dvec3());
+    let f = |v: glam::DVec3| format!("[{:.4}, {:.4}, {:.4}]", v.x, v.y, v.z);
+    let place = "place it with `fit = \"grid\"` (or scale, rotate, translate)";
+    if hi.cmplt(glo).any() || lo.cmpgt(ghi).any() {
+        format!(
+            "target `{}` lies outside the grid: its bounds are {} to {}, the grid's {} to {}; {place}",
+            t.name,
+            f(lo),
+            f(hi),
+            f(glo),
+            f(ghi)
+        )
+    } else if let Solid::Mesh(m) = solid
+        && m.boundary_edges() > 0
+        && t.inside == Inside::Parity
+    {
+        format!(
+            "target `{}` covers no cell: it is not watertight ({} boundary edges), so ray parity finds no inside; use inside = \"winding\"",
+            t.name,
+            m.boundary_edges()
+        )
+    } else {
+        format!(
+            "target `{}` covers no cell centre of the grid (bounds {} to {}; cells of {}): it is flat, smaller than a cell or not closed; {place}",
+            t.name,
+            f(lo),
+            f(hi),
+            f(grid.cell_size())
+        )
     }
 }
 

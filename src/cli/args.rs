@@ -2,16 +2,16 @@
 
 use std::path::PathBuf;
 
-use clap::{Args, Parser, Subcommand};
-use shapegen::experiment::Method;
+use crate::experiment::Method;
+use clap::{Parser, Subcommand};
 
 /// Evolves procedural models toward targets (ShapeGenetics: a genetic
 /// algorithm over derivation trees, with SMC, SOSMC and RJMCMC baselines).
 ///
 /// Without a command, runs the built-in experiment (`shapegen run`).
 #[derive(Debug, Parser)]
-#[command(version, about, long_about = None)]
-pub struct Cli {
+#[command(name = "shapegen", version, about, long_about = None)]
+pub struct Args {
     /// What to do.
     #[command(subcommand)]
     pub command: Option<Command>,
@@ -29,7 +29,7 @@ pub enum Command {
 }
 
 /// Where the experiment comes from.
-#[derive(Debug, Args)]
+#[derive(Debug, clap::Args)]
 pub struct ExperimentArgs {
     /// Experiment file (TOML); the built-in experiment if omitted.
     pub experiment: Option<PathBuf>,
@@ -39,8 +39,9 @@ pub struct ExperimentArgs {
 }
 
 /// `shapegen run`.
-#[derive(Debug, Args)]
+#[derive(Debug, clap::Args)]
 pub struct RunArgs {
+    /// The experiment.
     #[command(flatten)]
     pub experiment: ExperimentArgs,
     /// Method (ga, smc, sosmc, rjmcmc); default: the experiment's.
@@ -76,8 +77,9 @@ pub struct RunArgs {
 }
 
 /// `shapegen compare`.
-#[derive(Debug, Args)]
+#[derive(Debug, clap::Args)]
 pub struct CompareArgs {
+    /// The experiment.
     #[command(flatten)]
     pub experiment: ExperimentArgs,
     /// Methods to compare, comma-separated.
@@ -104,7 +106,7 @@ pub struct CompareArgs {
 }
 
 /// `shapegen render`.
-#[derive(Debug, Args)]
+#[derive(Debug, clap::Args)]
 pub struct RenderArgs {
     /// A chromosome file written by `shapegen run` (best.json).
     pub chromosome: PathBuf,
@@ -121,5 +123,14 @@ pub struct RenderArgs {
 
 fn parse_method(s: &str) -> Result<Method, String> {
     s.parse()
-        .map_err(|e: shapegen::experiment::ExperimentError| e.to_string())
+        .map_err(|e: crate::experiment::ExperimentError| e.to_string())
+}
+
+impl Default for Command {
+    /// No command: `shapegen run` with its defaults.
+    fn default() -> Self {
+        Args::parse_from(["shapegen", "run"])
+            .command
+            .expect("`run` is a command")
+    }
 }

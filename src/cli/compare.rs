@@ -6,25 +6,48 @@ use std::fmt::Write as _;
 use std::ops::ControlFlow;
 
 use serde::Serialize;
-use shapegen::experiment::{Method, write_atomically};
-use shapegen::optimize::{Budget, GenerationStats, RunResult};
 
 use super::args::CompareArgs;
-use super::curve::{self, Row};
 use super::plot::{self, Series};
-use super::run::write_json;
-use super::{CliError, interrupted, load_experiment, seconds, thread_pool};
+use super::{Cli, CliError, interrupted, seconds, thread_pool};
+use crate::experiment::{Experiment, Method};
+use crate::genome::Chromosome;
+use crate::optimize::{Budget, GenerationStats, RunResult};
+use crate::output::{self, Row, mean_iou, write_json};
+use crate::score::files::write_atomically;
 
 /// Points of the common time grid.
 const GRID: usize = 200;
 /// Budget fractions reported in the summary.
 const FRACTIONS: [f64; 4] = [0.1, 0.25, 0.5, 1.0];
+/// Budget fractions at which the best model's IoU is reported.
+const IOU_FRACTIONS: [f64; 3] = [0.1, 0.5, 1.0];
 
 /// One finished run.
 struct Run {
     seed: u64,
     rows: Vec<Row>,
     result: RunResult,
+    /// Mean IoU over targets of the best model so far at [`IOU_FRACTIONS`]
+    /// of the budget (`None` while there is no valid model).
+    iou_at: Vec<Option<f64>>,
+}
+
+/// The best model so far each time it changed: (seconds, fitness, model).
+type Improvements = Vec<(f64, f64, Chromosome)>;
+
+/// The IoU of the best model at each of [`IOU_FRACTIONS`] of `seconds`.
+fn iou_at(experiment: &Experiment, improvements: &Improvements, seconds: f64) -> Vec<Option<f64>> {
+    IOU_FRACTIONS
+        .iter()
+        .map(|f| {
+            improvements
+                .iter()
+                .take_while(|(t, _, _)| *t <= f * seconds || *f == 1.0)
+                .last()
+                .map(|(_, _, c)| mean_iou(&experiment.quality(c)))
+        })
+        .collect()
 }
 
 /// Per-method statistics of `summary.json`.
@@ -41,6 +64,10 @@ pub struct MethodSummary {
     pub mean_at: BTreeMap<String, Option<f64>>,
     /// Standard deviation at the same fractions.
     pub std_at: BTreeMap<String, Option<f64>>,
+    /// Mean IoU (over runs; per run the mean over targets) of the best
+    /// model at 10 %, 50 % and 100 % of the budget (`null` while some run
+    /// has no valid model yet).
+    pub iou_at: BTreeMap<String, Option<f64>>,
     /// Seconds until this method's mean curve reaches each other method's
     /// final mean (`null`: never within the budget).
     pub seconds_to_reach: BTreeMap<String, Option<f64>>,
@@ -72,8 +99,8 @@ pub struct CompareSummary {
 }
 
 /// Runs `shapegen compare`.
-pub fn compare(args: &CompareArgs) -> Result<(), CliError> {
-    let experiment = load_experiment(
+pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
+    let experiment = cli.load_experiment(
         args.experiment.experiment.as_deref(),
         args.experiment.data.as_deref(),
     )?;
@@ -111,8 +138,19 @@ pub fn compare(args: &CompareArgs) -> Result<(), CliError> {
         for &method in &methods {
             let seed = first_seed + r;
             let mut rows = Vec::new();
+            let mut improvements: Improvements = Vec::new();
             let mut observer = |s: &GenerationStats<'_>| {
                 rows.push(Row::of(s));
+                let improved = improvements
+                    .last()
+                    .is_none_or(|(_, best, _)| s.best_so_far > *best);
+                if s.best_so_far.is_finite() && improved {
+                    improvements.push((
+                        s.elapsed.as_secs_f64(),
+                        s.best_so_far,
+                        s.best_chromosome.clone(),
+                    ));
+                }
                 if interrupted() {
                     ControlFlow::Break(())
                 } else {
@@ -130,9 +168,13 @@ pub fn compare(args: &CompareArgs) -> Result<(), CliError> {
                     result.evaluations
                 );
             }
-            all.entry(method)
-                .or_default()
-                .push(Run { seed, rows, result });
+            let iou_at = iou_at(&experiment, &improvements, args.seconds);
+            all.entry(method).or_default().push(Run {
+                seed,
+                rows,
+                result,
+                iou_at,
+            });
             if interrupted() {
                 eprintln!("shapegen: interrupted; summarizing the finished runs");
                 break 'runs;
@@ -156,8 +198,8 @@ pub fn compare(args: &CompareArgs) -> Result<(), CliError> {
             let _ = writeln!(
                 curves_csv,
                 "{method},{t:.3},{},{},{n}",
-                curve::number(*mean),
-                curve::number(*std)
+                output::number(*mean),
+                output::number(*std)
             );
         }
         finals.insert(method, mean_std(runs.iter().map(|r| r.result.best_fitness)));
@@ -197,6 +239,14 @@ pub fn compare(args: &CompareArgs) -> Result<(), CliError> {
             mean_at.insert(key.clone(), v.map(|v| v.0));
             std_at.insert(key, v.map(|v| v.1));
         }
+        let mut iou = BTreeMap::new();
+        for (k, f) in IOU_FRACTIONS.iter().enumerate() {
+            let values: Option<Vec<f64>> = runs.iter().map(|r| r.iou_at[k]).collect();
+            iou.insert(
+                format!("{:.0}%", f * 100.0),
+                values.map(|v| v.iter().sum::<f64>() / v.len() as f64),
+            );
+        }
         let (final_mean, final_std) = finals[&method];
         let mut seconds_to_reach = BTreeMap::new();
         for (&other, &(goal, _)) in &finals {
@@ -226,6 +276,7 @@ pub fn compare(args: &CompareArgs) -> Result<(), CliError> {
                 final_std,
                 mean_at,
                 std_at,
+                iou_at: iou,
                 seconds_to_reach,
                 evaluations: runs
                     .iter()
@@ -242,11 +293,10 @@ pub fn compare(args: &CompareArgs) -> Result<(), CliError> {
             },
         );
         let dir = out.join(method.name());
+        std::fs::create_dir_all(&dir)
+            .map_err(|e| CliError::msg(format!("cannot create {}: {e}", dir.display())))?;
         experiment.write_model(&best_run.result.best, &dir)?;
-        write_json(
-            &dir.join("best.json"),
-            &best_run.result.best.to_data(experiment.graph()),
-        )?;
+        output::write_chromosome(&dir.join("best.json"), &experiment, &best_run.result.best)?;
     }
     let mut runs_csv = String::from("method,run,seed,generation,seconds,evaluations,best,mean\n");
     for (method, runs) in &all {
@@ -259,8 +309,8 @@ pub fn compare(args: &CompareArgs) -> Result<(), CliError> {
                     r.generation,
                     r.seconds,
                     r.evaluations,
-                    curve::number(r.best),
-                    curve::number(r.mean)
+                    output::number(r.best),
+                    output::number(r.mean)
                 );
             }
         }
@@ -283,19 +333,23 @@ pub fn compare(args: &CompareArgs) -> Result<(), CliError> {
         eprintln!("shapegen: warning: {warning}");
     }
     println!(
-        "{:<8} {:>12} {:>12} {:>12} {:>12}",
-        "method", "10%", "50%", "100%", "evaluations"
+        "{:<8} {:>12} {:>12} {:>12}   {:>6} {:>6} {:>6} {:>12}",
+        "method", "10%", "50%", "100%", "IoU10%", "IoU50%", "IoU", "evaluations"
     );
     for (name, m) in &summary.methods {
         let cell = |k: &str| match (m.mean_at[k], m.std_at[k]) {
             (Some(a), Some(b)) => format!("{a:.3}±{b:.3}"),
             _ => "-".to_string(),
         };
+        let iou = |k: &str| m.iou_at[k].map_or_else(|| "-".to_string(), |v| format!("{v:.3}"));
         println!(
-            "{name:<8} {:>12} {:>12} {:>12} {:>12.0}",
+            "{name:<8} {:>12} {:>12} {:>12}   {:>6} {:>6} {:>6} {:>12.0}",
             cell("10%"),
             cell("50%"),
             cell("100%"),
+            iou("10%"),
+            iou("50%"),
+            iou("100%"),
             m.evaluations
         );
     }
@@ -356,16 +410,17 @@ mod tests {
         let run = |rows: Vec<Row>| Run {
             seed: 0,
             rows,
+            iou_at: Vec::new(),
             result: RunResult {
-                best: shapegen::genome::Chromosome::root(
-                    &shapegen::demo::blocks_graph(),
-                    &mut shapegen::rng::stream(0, &[]),
+                best: Chromosome::root(
+                    &crate::demo::blocks_graph(),
+                    &mut crate::rng::stream(0, &[]),
                 ),
                 best_fitness: 0.0,
                 evaluations: 0,
                 generations: 0,
                 elapsed: std::time::Duration::ZERO,
-                stop: shapegen::optimize::StopReason::WallTime,
+                stop: crate::optimize::StopReason::WallTime,
                 population: Vec::new(),
             },
         };

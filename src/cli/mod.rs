@@ -1,21 +1,44 @@
-//! The `shapegen` command line: `run`, `compare` and `render`.
+//! The `shapegen` command line as a library: `run`, `compare` and `render`
+//! for the built-in generators and a program's own (feature `cli`, on by
+//! default).
+//!
+//! A program that declares its own generator gets the whole command line
+//! (progress, checkpoint and resume, Ctrl-C, `compare`, `curves.png`) for
+//! it in a few lines, and its experiment files can name it:
+//!
+//! ```no_run
+//! use shapegen::cli::Cli;
+//! use shapegen::scenes::Spaceship; // stands for the program's own generator
+//!
+//! fn main() -> std::process::ExitCode {
+//!     Cli::new().generator("my_ship", Spaceship).run()
+//! }
+//! ```
+//!
+//! `examples/custom_generator.rs` is a complete program.
 
 pub mod args;
 mod compare;
-mod curve;
 mod plot;
+mod progress;
 mod render;
 mod run;
 
-use std::path::Path;
+use std::ffi::OsString;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::Once;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use shapegen::experiment::{Experiment, ExperimentError, LoadOptions};
+use clap::Parser;
 
-pub use args::{Cli, Command};
-pub use compare::compare;
-pub use render::render;
-pub use run::run;
+use crate::experiment::{BUILTIN, Experiment, ExperimentError, LoadOptions};
+use crate::express::Generator;
+use crate::registry::Registry;
+use args::{Args, Command};
+
+pub use progress::Progress;
+pub use run::SavedRun;
 
 /// An error for the user.
 #[derive(Debug, thiserror::Error)]
@@ -23,6 +46,9 @@ pub enum CliError {
     /// From the experiment (loading, running, writing).
     #[error(transparent)]
     Experiment(#[from] ExperimentError),
+    /// The command line itself (unknown flag, bad value, `--help`).
+    #[error("{0}")]
+    Args(#[from] clap::Error),
     /// Anything else, as a sentence.
     #[error("{0}")]
     Message(String),
@@ -35,37 +61,158 @@ impl CliError {
     }
 }
 
+impl From<crate::score::ScoreError> for CliError {
+    fn from(e: crate::score::ScoreError) -> Self {
+        Self::Experiment(e.into())
+    }
+}
+
+/// The command line for a set of generators.
+#[derive(Debug, Clone)]
+pub struct Cli {
+    registry: Registry,
+    /// Name, TOML text and the folder its relative paths resolve against.
+    default_experiment: (String, String, PathBuf),
+}
+
+impl Default for Cli {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Cli {
+    /// The built-in generators, with the built-in experiment as the default
+    /// (what `shapegen run` uses without an experiment file).
+    #[must_use]
+    pub fn new() -> Self {
+        Self {
+            registry: Registry::builtin(),
+            default_experiment: ("default".into(), BUILTIN.into(), PathBuf::from(".")),
+        }
+    }
+
+    /// Adds a generator that experiment files can name `name` (replacing a
+    /// built-in of that name).
+    #[must_use]
+    pub fn generator<G>(mut self, name: &str, generator: G) -> Self
+    where
+        G: Generator + Send + 'static,
+        G::State: Send,
+    {
+        self.registry.register(name, generator);
+        self
+    }
+
+    /// Uses `registry` for the generators instead.
+    #[must_use]
+    pub fn registry(mut self, registry: Registry) -> Self {
+        self.registry = registry;
+        self
+    }
+
+    /// The experiment used when the command line names none: TOML text
+    /// (e.g. `include_str!("my.toml")`) named `name`, whose relative paths
+    /// resolve against `base`.
+    #[must_use]
+    pub fn default_experiment(
+        mut self,
+        name: &str,
+        toml: impl Into<String>,
+        base: impl Into<PathBuf>,
+    ) -> Self {
+        self.default_experiment = (name.into(), toml.into(), base.into());
+        self
+    }
+
+    /// Runs the command line of this process (`std::env::args_os`): prints
+    /// errors with their causes, and returns the exit status (0 success,
+    /// 1 error, 2 a usage mistake; `--help` prints and succeeds).
+    pub fn run(self) -> ExitCode {
+        match self.run_from(std::env::args_os()) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(CliError::Args(e)) => {
+                let _ = e.print();
+                ExitCode::from(u8::try_from(e.exit_code()).unwrap_or(2))
+            }
+            Err(e) => {
+                eprintln!("shapegen: error: {e}");
+                let mut source = std::error::Error::source(&e);
+                while let Some(s) = source {
+                    eprintln!("  caused by: {s}");
+                    source = s.source();
+                }
+                ExitCode::FAILURE
+            }
+        }
+    }
+
+    /// Runs a command line given as arguments (the first is the program's
+    /// name), e.g. `["shapegen", "run", "my.toml", "--generations", "5"]`.
+    pub fn run_from<I, T>(&self, args: I) -> Result<(), CliError>
+    where
+        I: IntoIterator<Item = T>,
+        T: Into<OsString> + Clone,
+    {
+        let args = Args::try_parse_from(args)?;
+        catch_interrupts();
+        match args.command.unwrap_or_default() {
+            Command::Run(a) => run::run(self, &a),
+            Command::Compare(a) => compare::compare(self, &a),
+            Command::Render(a) => render::render(self, &a),
+        }
+    }
+
+    /// The experiment file at `path`, or the default one.
+    fn load_experiment(
+        &self,
+        path: Option<&Path>,
+        data: Option<&Path>,
+    ) -> Result<Experiment, CliError> {
+        let mut options = LoadOptions::from_env();
+        if let Some(d) = data {
+            options.data = Some(d.to_path_buf());
+        }
+        Ok(match path {
+            Some(p) => Experiment::load_with(p, &self.registry, &options)?,
+            None => {
+                let (name, text, base) = &self.default_experiment;
+                Experiment::from_toml_with(
+                    text,
+                    "<built-in>",
+                    base,
+                    name,
+                    &self.registry,
+                    &options,
+                )?
+            }
+        })
+    }
+}
+
 static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
 /// Makes Ctrl-C stop the run cleanly after the current generation (the
-/// results so far are written); a second Ctrl-C exits at once.
-pub fn catch_interrupts() {
-    let installed = ctrlc::set_handler(|| {
-        if INTERRUPTED.swap(true, Ordering::SeqCst) {
-            std::process::exit(130);
+/// results so far are written); a second Ctrl-C exits at once. Installed
+/// once per process.
+fn catch_interrupts() {
+    static INSTALL: Once = Once::new();
+    INSTALL.call_once(|| {
+        let installed = ctrlc::set_handler(|| {
+            if INTERRUPTED.swap(true, Ordering::SeqCst) {
+                std::process::exit(130);
+            }
+            eprintln!("\nshapegen: stopping after this generation (Ctrl-C again to quit at once)");
+        });
+        if let Err(e) = installed {
+            eprintln!("shapegen: warning: cannot catch Ctrl-C: {e}");
         }
-        eprintln!("\nshapegen: stopping after this generation (Ctrl-C again to quit at once)");
     });
-    if let Err(e) = installed {
-        eprintln!("shapegen: warning: cannot catch Ctrl-C: {e}");
-    }
 }
 
 /// Whether Ctrl-C was pressed.
-pub fn interrupted() -> bool {
+fn interrupted() -> bool {
     INTERRUPTED.load(Ordering::SeqCst)
-}
-
-/// The experiment file at `path`, or the built-in one.
-fn load_experiment(path: Option<&Path>, data: Option<&Path>) -> Result<Experiment, CliError> {
-    let mut options = LoadOptions::from_env();
-    if let Some(d) = data {
-        options.data = Some(d.to_path_buf());
-    }
-    Ok(match path {
-        Some(p) => Experiment::load(p, &options)?,
-        None => Experiment::builtin(),
-    })
 }
 
 /// A `--seconds` value as a duration (finite and > 0).

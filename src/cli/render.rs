@@ -1,13 +1,13 @@
 //! `shapegen render`: re-express a saved chromosome.
 
-use shapegen::genome::ChromosomeData;
-
 use super::args::RenderArgs;
-use super::{CliError, load_experiment};
+use super::{Cli, CliError};
+use crate::genome::ChromosomeData;
+use crate::output::mean_iou;
 
 /// Runs `shapegen render`.
-pub fn render(args: &RenderArgs) -> Result<(), CliError> {
-    let experiment = load_experiment(args.experiment.as_deref(), args.data.as_deref())?;
+pub(super) fn render(cli: &Cli, args: &RenderArgs) -> Result<(), CliError> {
+    let experiment = cli.load_experiment(args.experiment.as_deref(), args.data.as_deref())?;
     let path = &args.chromosome;
     let text = std::fs::read_to_string(path)
         .map_err(|e| CliError::msg(format!("cannot read {}: {e}", path.display())))?;
@@ -16,8 +16,9 @@ pub fn render(args: &RenderArgs) -> Result<(), CliError> {
     let chromosome = experiment.chromosome(&data, path)?;
     let written = experiment.write_model(&chromosome, &args.out)?;
     println!(
-        "fitness {:.4} ({} genes) on `{}`; wrote {}",
+        "fitness {:.4}, IoU {:.3} ({} genes) on `{}`; wrote {}",
         experiment.evaluate(&chromosome),
+        mean_iou(&experiment.quality(&chromosome)),
         chromosome.len(),
         experiment.name(),
         written

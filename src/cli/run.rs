@@ -3,16 +3,14 @@
 
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
 
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::{Deserialize, Serialize};
-use shapegen::experiment::{Experiment, write_atomically};
-use shapegen::optimize::{Budget, Checkpoint, GenerationStats, RunResult, StopReason};
 
 use super::args::RunArgs;
-use super::curve::{self, Row};
-use super::{CliError, interrupted, load_experiment, seconds, thread_pool};
+use super::progress::Progress;
+use super::{Cli, CliError, interrupted, seconds, thread_pool};
+use crate::optimize::{Budget, Checkpoint, GenerationStats, StopReason};
+use crate::output::{self, Row, Summary, write_json};
 
 /// What a checkpoint file holds: the optimizer's checkpoint plus what the
 /// CLI needs to continue the same run and its curve.
@@ -30,40 +28,9 @@ pub struct SavedRun {
     pub checkpoint: Checkpoint,
 }
 
-/// What `summary.json` holds.
-#[derive(Debug, Serialize, Deserialize)]
-pub struct Summary {
-    /// The experiment's name.
-    pub experiment: String,
-    /// The generator.
-    pub generator: String,
-    /// The method.
-    pub method: String,
-    /// The seed.
-    pub seed: u64,
-    /// Best fitness found.
-    pub best_fitness: f64,
-    /// The experiment's optimum, if known.
-    pub optimum: Option<f64>,
-    /// Genes of the best chromosome.
-    pub best_genes: usize,
-    /// Fitness evaluations.
-    pub evaluations: u64,
-    /// Generations after the initial one.
-    pub generations: u64,
-    /// Wall-clock seconds (including time before a resumed checkpoint).
-    pub seconds: f64,
-    /// Why the run stopped.
-    pub stop: StopReason,
-    /// Worker threads.
-    pub threads: usize,
-    /// Whether the run was resumed from a checkpoint.
-    pub resumed: bool,
-}
-
 /// Runs `shapegen run`.
-pub fn run(args: &RunArgs) -> Result<(), CliError> {
-    let experiment = load_experiment(
+pub(super) fn run(cli: &Cli, args: &RunArgs) -> Result<(), CliError> {
+    let experiment = cli.load_experiment(
         args.experiment.experiment.as_deref(),
         args.experiment.data.as_deref(),
     )?;
@@ -136,11 +103,11 @@ pub fn run(args: &RunArgs) -> Result<(), CliError> {
         );
     }
     let mut curve: Vec<Row> = saved.as_ref().map(|s| s.curve.clone()).unwrap_or_default();
-    let mut watcher = Watcher::new(&budget, args.quiet);
+    let mut progress = Progress::new(&budget, args.quiet).with_quality(&experiment);
     let mut checkpoint_error = None;
     let mut observer = |s: &GenerationStats<'_>| {
         curve.push(Row::of(s));
-        watcher.update(s);
+        progress.update(s);
         let stop = interrupted();
         if let Some(path) = &args.checkpoint
             && (stop || s.generation.is_multiple_of(args.every.max(1)))
@@ -153,7 +120,7 @@ pub fn run(args: &RunArgs) -> Result<(), CliError> {
                 checkpoint: s.checkpoint(),
             };
             if let Err(e) = write_json(path, &saved) {
-                checkpoint_error = Some(e);
+                checkpoint_error = Some(CliError::from(e));
                 return ControlFlow::Break(());
             }
         }
@@ -172,7 +139,7 @@ pub fn run(args: &RunArgs) -> Result<(), CliError> {
             &mut observer,
         )
     })?;
-    watcher.finish();
+    progress.finish();
     if let Some(e) = checkpoint_error {
         return Err(e);
     }
@@ -180,28 +147,19 @@ pub fn run(args: &RunArgs) -> Result<(), CliError> {
         eprintln!("shapegen: interrupted; writing the results so far");
     }
     let summary = Summary {
-        experiment: experiment.name().to_string(),
-        generator: experiment.generator().to_string(),
-        method: method.name().to_string(),
-        seed,
-        best_fitness: result.best_fitness,
-        optimum: experiment.optimum(),
-        best_genes: result.best.len(),
-        evaluations: result.evaluations,
-        generations: result.generations,
-        seconds: result.elapsed.as_secs_f64(),
-        stop: result.stop,
         threads,
         resumed: saved.is_some(),
+        ..Summary::of(&experiment, method, seed, &result)
     };
-    let written = write_run(&experiment, &result, &curve, &summary, &args.out)?;
+    let written = output::write_run(&experiment, &result, &curve, &summary, &args.out)?;
     println!(
-        "best fitness {:.4}{} ({} genes) after {} generations, {} evaluations, {:.1} s",
+        "best fitness {:.4}{}, {} ({} genes) after {} generations, {} evaluations, {:.1} s",
         result.best_fitness,
         experiment
             .optimum()
             .map(|o| format!(" of {o}"))
             .unwrap_or_default(),
+        quality_line(&summary),
         result.best.len(),
         result.generations,
         result.evaluations,
@@ -211,30 +169,25 @@ pub fn run(args: &RunArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// Writes every result file of a run into `dir`; returns their paths.
-pub fn write_run(
-    experiment: &Experiment,
-    result: &RunResult,
-    curve: &[Row],
-    summary: &Summary,
-    dir: &Path,
-) -> Result<Vec<PathBuf>, CliError> {
-    let mut written = experiment.write_model(&result.best, dir)?;
-    let best = dir.join("best.json");
-    write_json(&best, &result.best.to_data(experiment.graph()))?;
-    let csv = dir.join("curve.csv");
-    write_atomically(&csv, curve::to_csv(curve).as_bytes())?;
-    let json = dir.join("summary.json");
-    write_json(&json, summary)?;
-    written.extend([best, csv, json]);
-    Ok(written)
-}
-
-/// Writes `value` as pretty JSON, atomically.
-pub fn write_json(path: &Path, value: &impl Serialize) -> Result<(), CliError> {
-    let text = serde_json::to_string_pretty(value)
-        .map_err(|e| CliError::msg(format!("cannot encode {}: {e}", path.display())))?;
-    Ok(write_atomically(path, text.as_bytes())?)
+/// IoU, precision and recall per target, as one phrase.
+fn quality_line(summary: &Summary) -> String {
+    summary
+        .quality
+        .iter()
+        .enumerate()
+        .map(|(i, q)| {
+            let which = if summary.quality.len() > 1 {
+                format!("target {i}: ")
+            } else {
+                String::new()
+            };
+            format!(
+                "{which}IoU {:.3}, precision {:.3}, recall {:.3}",
+                q.iou, q.precision, q.recall
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
 }
 
 fn read_saved(path: &Path) -> Result<SavedRun, CliError> {
@@ -254,80 +207,4 @@ fn list(paths: &[PathBuf]) -> String {
         .map(|p| p.display().to_string())
         .collect::<Vec<_>>()
         .join(", ")
-}
-
-/// The progress bar on a terminal, or a line every few seconds otherwise.
-pub struct Watcher {
-    bar: Option<ProgressBar>,
-    budget: Budget,
-    quiet: bool,
-    last_line: Instant,
-    last: Option<(f64, u64)>,
-}
-
-impl Watcher {
-    /// A watcher for a run with `budget`.
-    pub fn new(budget: &Budget, quiet: bool) -> Self {
-        let target = ProgressDrawTarget::stderr();
-        let bar = (!quiet && !target.is_hidden()).then(|| {
-            let bar = ProgressBar::with_draw_target(Some(1000), target);
-            bar.set_style(
-                ProgressStyle::with_template(
-                    "{bar:30.cyan/blue} {percent:>3}% {elapsed_precise} {msg}",
-                )
-                .expect("a valid template"),
-            );
-            bar
-        });
-        Self {
-            bar,
-            budget: *budget,
-            quiet,
-            last_line: Instant::now(),
-            last: None,
-        }
-    }
-
-    /// Shows one generation.
-    pub fn update(&mut self, s: &GenerationStats<'_>) {
-        let secs = s.elapsed.as_secs_f64();
-        let rate = match self.last {
-            Some((t, e)) if secs > t => (s.evaluations - e) as f64 / (secs - t),
-            _ => s.evaluations as f64 / secs.max(1e-9),
-        };
-        self.last = Some((secs, s.evaluations));
-        let message = format!(
-            "gen {} | {:.0} eval/s | best {:.4} | mean {:.4}",
-            s.generation, rate, s.best_so_far, s.mean
-        );
-        let b = &self.budget;
-        let fraction = [
-            b.wall_time.map(|t| secs / t.as_secs_f64()),
-            b.generations.map(|g| s.generation as f64 / g.max(1) as f64),
-            b.evaluations
-                .map(|e| s.evaluations as f64 / e.max(1) as f64),
-        ]
-        .into_iter()
-        .flatten()
-        .fold(0.0, f64::max);
-        if let Some(bar) = &self.bar {
-            bar.set_position((fraction.min(1.0) * 1000.0) as u64);
-            bar.set_message(message);
-        } else if !self.quiet
-            && (self.last_line.elapsed() >= Duration::from_secs(2) || s.generation == 0)
-        {
-            self.last_line = Instant::now();
-            eprintln!(
-                "  {:>3.0}% {message} ({secs:.1} s)",
-                fraction.min(1.0) * 100.0
-            );
-        }
-    }
-
-    /// Removes the bar.
-    pub fn finish(&self) {
-        if let Some(bar) = &self.bar {
-            bar.finish_and_clear();
-        }
-    }
 }

@@ -108,6 +108,26 @@ pub(super) struct VolumeTargetFile {
     pub fill: Option<f64>,
     pub outside: Option<f64>,
     pub inside: Option<InsideFile>,
+    pub scale: Option<Spanned<ScaleFile>>,
+    pub rotate: Option<Spanned<[f32; 3]>>,
+    pub translate: Option<Spanned<[f32; 3]>>,
+    pub fit: Option<Spanned<FitFile>>,
+}
+
+/// `scale` of a target: one factor, or one per axis.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(untagged)]
+pub(super) enum ScaleFile {
+    Uniform(f32),
+    PerAxis([f32; 3]),
+}
+
+/// `fit` of a target: `"grid"` or a box.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(untagged)]
+pub(super) enum FitFile {
+    Named(String),
+    Box { min: [f32; 3], max: [f32; 3] },
 }
 
 /// `volume.targets[i].inside`: how a target mesh's inside is decided.
@@ -135,9 +155,21 @@ pub(super) struct ImageFile {
 pub(super) struct ImageTargetFile {
     pub png: Option<Spanned<String>>,
     pub pfm: Option<Spanned<String>>,
+    pub mask: Option<MaskFile>,
+    pub threshold: Option<Spanned<f32>>,
     pub target: Option<f32>,
     pub background: Option<f32>,
     pub camera: Spanned<CameraFile>,
+}
+
+/// `mask` of a PNG target: which pixels are target.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum MaskFile {
+    Red0,
+    Dark,
+    Alpha,
+    AlphaDark,
 }
 
 /// `camera = {..}` of an image target: the paper's orbit camera.

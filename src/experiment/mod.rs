@@ -93,7 +93,7 @@
 
 mod error;
 mod file;
-mod problem;
+pub(crate) mod problem;
 mod resolve;
 
 use std::collections::BTreeMap;
@@ -102,11 +102,12 @@ use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
 pub use error::ExperimentError;
-pub use problem::write_atomically;
 
 use crate::genome::{Chromosome, ChromosomeData};
 use crate::graph::Graph;
 use crate::optimize::{Budget, Checkpoint, GaParams, Observer, RjmcmcParams, RunResult, SmcParams};
+use crate::registry::Registry;
+use crate::score::Quality;
 use problem::Problem;
 
 /// The embedded default experiment (`experiments/default.toml`): the
@@ -224,8 +225,19 @@ impl fmt::Debug for Experiment {
 }
 
 impl Experiment {
-    /// Loads an experiment file (see the [module docs](self) for the format).
+    /// Loads an experiment file (see the [module docs](self) for the format)
+    /// naming one of the built-in generators ([`Registry::builtin`]).
     pub fn load(path: &Path, options: &LoadOptions) -> Result<Self, ExperimentError> {
+        Self::load_with(path, &Registry::builtin(), options)
+    }
+
+    /// Loads an experiment file whose generator is one of `registry`'s
+    /// (e.g. the built-ins plus a program's own).
+    pub fn load_with(
+        path: &Path,
+        registry: &Registry,
+        options: &LoadOptions,
+    ) -> Result<Self, ExperimentError> {
         let text = std::fs::read_to_string(path).map_err(|source| ExperimentError::Read {
             path: path.to_path_buf(),
             source,
@@ -234,12 +246,19 @@ impl Experiment {
         let stem = path
             .file_stem()
             .map_or_else(|| "experiment".into(), |s| s.to_string_lossy().into_owned());
-        Self::from_toml(&text, &path.display().to_string(), base, &stem, options)
+        Self::from_toml_with(
+            &text,
+            &path.display().to_string(),
+            base,
+            &stem,
+            registry,
+            options,
+        )
     }
 
-    /// Parses an experiment from TOML `text`; `file` names it in errors,
-    /// relative paths resolve against `base`, `default_name` is used when the
-    /// file has no `name`.
+    /// Parses an experiment from TOML `text` naming a built-in generator;
+    /// `file` names it in errors, relative paths resolve against `base`,
+    /// `default_name` is used when the file has no `name`.
     pub fn from_toml(
         text: &str,
         file: &str,
@@ -247,7 +266,32 @@ impl Experiment {
         default_name: &str,
         options: &LoadOptions,
     ) -> Result<Self, ExperimentError> {
-        resolve::experiment(text, file, base, default_name, options)
+        Self::from_toml_with(
+            text,
+            file,
+            base,
+            default_name,
+            &Registry::builtin(),
+            options,
+        )
+    }
+
+    /// [`from_toml`](Self::from_toml) with the generators of `registry`.
+    pub fn from_toml_with(
+        text: &str,
+        file: &str,
+        base: &Path,
+        default_name: &str,
+        registry: &Registry,
+        options: &LoadOptions,
+    ) -> Result<Self, ExperimentError> {
+        let input = resolve::Input {
+            text,
+            file,
+            base,
+            default_name,
+        };
+        resolve::experiment(&input, registry, options)
     }
 
     /// The embedded default experiment ([`BUILTIN`]); needs no files.
@@ -275,7 +319,7 @@ impl Experiment {
         &self.description
     }
 
-    /// The generator's name in the file (`spaceship`, `tree_v2`, ...).
+    /// The generator's name in the file and the registry (`spaceship`, `tree_v2`, ...).
     #[must_use]
     pub fn generator(&self) -> &str {
         &self.generator
@@ -351,6 +395,14 @@ impl Experiment {
         self.problem.evaluate(chromosome)
     }
 
+    /// Per target (in the file's order; the built-in ship is one): IoU,
+    /// precision and recall of the model of `chromosome` against it. Unlike
+    /// the fitness these do not saturate near a perfect fit.
+    #[must_use]
+    pub fn quality(&self, chromosome: &Chromosome) -> Vec<Quality> {
+        self.problem.quality(chromosome)
+    }
+
     /// Turns stored chromosome data (e.g. a `best.json`) into a chromosome of
     /// this experiment's generator, refusing anything else; `path` names the
     /// file in the error.
@@ -365,9 +417,10 @@ impl Experiment {
         })
     }
 
-    /// Writes the model of `chromosome` into `dir`: `best.obj`, plus
-    /// `overlay.png` (image targets) or `slice_x/y/z.png` (volume targets).
-    /// Returns the files written.
+    /// Writes the model of `chromosome` into `dir`: `best.obj` (with the
+    /// meshes it is scored with, replacements included), plus `overlay.png`
+    /// (image targets) or `target.obj` and `slice_x/y/z.png` (volume
+    /// targets), each atomically. Returns the files written.
     pub fn write_model(
         &self,
         chromosome: &Chromosome,

@@ -1,24 +1,41 @@
 //! One generator scored against one scene, behind an object-safe trait so an
-//! experiment can pick both at run time.
+//! experiment can pick both at run time (the [`Registry`](crate::registry::Registry)
+//! builds them).
 
-use std::fs;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use super::{ExperimentError, MethodParams};
-use crate::express::{Generator, Instance, Instances, ShapeId};
+use crate::express::{Generator, Instance, ShapeId};
 use crate::genome::Chromosome;
 use crate::glam::Affine3A;
 use crate::graph::Graph;
 use crate::optimize::{
     Budget, Checkpoint, Fitness, Ga, Observer, OptimizeError, Optimizer, Rjmcmc, RunResult, Smc,
 };
-use crate::score::obj::{ShapeMeshes, write_obj};
-use crate::score::score::{ImageTargets, ModelFitness, Scene};
+use crate::score::files::write_atomically;
+use crate::score::obj::write_obj;
 use crate::score::volume::VolumeScene;
+use crate::score::{
+    ImageScore, ImageTargets, ModelFitness, Quality, Scene, ShapeMeshes, VolumeScore,
+};
+
+/// A scene resolved from an experiment file, before a generator is chosen.
+pub(crate) enum SceneSetup {
+    /// A voxel scene; `targets` are the target meshes written as `target.obj`.
+    Volume {
+        scene: VolumeScene,
+        score: VolumeScore,
+        targets: ShapeMeshes,
+    },
+    /// Image targets.
+    Image {
+        scene: ImageTargets,
+        score: ImageScore,
+    },
+}
 
 /// A generator and a scored scene, ready to optimize.
-pub(super) trait Problem: Send + Sync {
+pub(crate) trait Problem: Send + Sync {
     /// The generator graph with the experiment's limits.
     fn graph(&self) -> &Graph;
     /// Runs `method` (from the start, or from `resume`).
@@ -32,6 +49,8 @@ pub(super) trait Problem: Send + Sync {
     ) -> Result<RunResult, OptimizeError>;
     /// The fitness of one chromosome.
     fn evaluate(&self, chromosome: &Chromosome) -> f64;
+    /// Per target: IoU, precision and recall of the model of `chromosome`.
+    fn quality(&self, chromosome: &Chromosome) -> Vec<Quality>;
     /// Writes `best.obj` and the scene's pictures of `chromosome` into `dir`.
     fn write_model(
         &self,
@@ -43,23 +62,23 @@ pub(super) trait Problem: Send + Sync {
 }
 
 /// [`Problem`] for a generator `G` on a scene `S`.
-pub(super) struct ModelProblem<G, S: Scene> {
+pub(crate) struct ModelProblem<G, S: Scene> {
     pub graph: Graph,
-    pub generator: G,
-    pub shapes: ShapeMeshes,
     pub fitness: ModelFitness<G, S>,
     /// Target meshes written as `target.obj` (volume scenes).
     pub target_meshes: Option<ShapeMeshes>,
 }
 
-/// What a scene writes besides the model's OBJ.
-pub(super) trait SceneOutputs: Scene {
+/// What a scene reports besides the score.
+pub(crate) trait SceneOutputs: Scene {
     /// Pictures of the model held in `scratch` (right after it was counted).
     fn write_pictures(
         &self,
         scratch: &Self::Scratch,
         dir: &Path,
     ) -> Result<Vec<PathBuf>, ExperimentError>;
+    /// Per target: how the model held in `scratch` covers it.
+    fn quality_of(&self, scratch: &Self::Scratch) -> Vec<Quality>;
     /// One line about the scene.
     fn describe(&self) -> String;
 }
@@ -85,6 +104,10 @@ impl SceneOutputs for VolumeScene {
             written.push(path);
         }
         Ok(written)
+    }
+
+    fn quality_of(&self, scratch: &Self::Scratch) -> Vec<Quality> {
+        self.quality(scratch)
     }
 
     fn describe(&self) -> String {
@@ -116,6 +139,10 @@ impl SceneOutputs for ImageTargets {
             written.push(path);
         }
         Ok(written)
+    }
+
+    fn quality_of(&self, scratch: &Self::Scratch) -> Vec<Quality> {
+        self.quality(scratch)
     }
 
     fn describe(&self) -> String {
@@ -165,20 +192,23 @@ where
             .evaluate(chromosome, &mut self.fitness.scratch())
     }
 
+    fn quality(&self, chromosome: &Chromosome) -> Vec<Quality> {
+        let mut scratch = self.fitness.scratch();
+        self.fitness.counts(chromosome, &mut scratch);
+        self.fitness.scene().quality_of(&scratch.0)
+    }
+
     fn write_model(
         &self,
         chromosome: &Chromosome,
         dir: &Path,
     ) -> Result<Vec<PathBuf>, ExperimentError> {
-        let mut model = Instances::default();
-        self.generator.express(chromosome, &mut model);
-        let mut text = Vec::new();
         let obj = dir.join("best.obj");
-        write_obj(&mut text, &model.0, &self.shapes)
+        let mut text = Vec::new();
+        self.fitness
+            .write_obj(&mut text, chromosome)
             .map_err(|e| ExperimentError::write(&obj, e))?;
         write_atomically(&obj, &text)?;
-        let mut scratch = self.fitness.scratch();
-        self.fitness.counts(chromosome, &mut scratch);
         let mut written = vec![obj];
         if let Some(targets) = &self.target_meshes {
             let instances: Vec<Instance> = (0..targets.len())
@@ -194,6 +224,8 @@ where
             write_atomically(&path, &text)?;
             written.push(path);
         }
+        let mut scratch = self.fitness.scratch();
+        self.fitness.counts(chromosome, &mut scratch);
         written.extend(self.fitness.scene().write_pictures(&scratch.0, dir)?);
         Ok(written)
     }
@@ -201,20 +233,4 @@ where
     fn describe(&self) -> String {
         self.fitness.scene().describe()
     }
-}
-
-/// Writes a file atomically (a temporary file, then a rename), so an
-/// interrupted run never leaves a truncated result behind.
-pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), ExperimentError> {
-    let tmp = path.with_extension(format!(
-        "{}.tmp",
-        path.extension().and_then(|e| e.to_str()).unwrap_or("")
-    ));
-    let write = || -> std::io::Result<()> {
-        let mut f = fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        fs::rename(&tmp, path)
-    };
-    write().map_err(|e| ExperimentError::write(path, e))
 }

@@ -20,3 +20,16 @@ mod tree;
 pub use city::{GRID, GridCity, LOT_STEP, SpaceFillingCity, grid_lot};
 pub use spaceship::{ShipState, Spaceship};
 pub use tree::{TreeV1, TreeV2};
+
+/// Registers the paper's generators under the names experiment files use:
+/// `spaceship`, `tree_v1`, `tree_v2`, `space_filling_city`, `grid_city`.
+/// [`Registry::builtin`](crate::registry::Registry::builtin) calls it; a
+/// user's generators register the same way.
+pub fn register(registry: &mut crate::registry::Registry) {
+    registry
+        .register("spaceship", Spaceship)
+        .register("tree_v1", TreeV1)
+        .register("tree_v2", TreeV2)
+        .register("space_filling_city", SpaceFillingCity)
+        .register("grid_city", GridCity);
+}

@@ -40,3 +40,65 @@ pub trait Generator: Sync {
         self.express_with(chromosome, sink, &mut Pending::new());
     }
 }
+
+/// A generator shared by reference is the same generator (e.g. one
+/// [`Interpreter`](super::Interpreter) both scored and written out).
+impl<G: Generator + ?Sized> Generator for &G {
+    type State = G::State;
+
+    #[inline]
+    fn graph(&self) -> &Graph {
+        (**self).graph()
+    }
+
+    #[inline]
+    fn shapes(&self) -> &[std::borrow::Cow<'static, str>] {
+        (**self).shapes()
+    }
+
+    #[inline]
+    fn axiom(&self) -> Self::State {
+        (**self).axiom()
+    }
+
+    #[inline]
+    fn express_with<S: ModelSink>(
+        &self,
+        chromosome: &Chromosome,
+        sink: &mut S,
+        pending: &mut Pending<Self::State>,
+    ) {
+        (**self).express_with(chromosome, sink, pending);
+    }
+}
+
+/// A generator shared between owners (e.g. a registry and the experiments
+/// it builds) is the same generator.
+impl<G: Generator + Send + ?Sized> Generator for std::sync::Arc<G> {
+    type State = G::State;
+
+    #[inline]
+    fn graph(&self) -> &Graph {
+        (**self).graph()
+    }
+
+    #[inline]
+    fn shapes(&self) -> &[std::borrow::Cow<'static, str>] {
+        (**self).shapes()
+    }
+
+    #[inline]
+    fn axiom(&self) -> Self::State {
+        (**self).axiom()
+    }
+
+    #[inline]
+    fn express_with<S: ModelSink>(
+        &self,
+        chromosome: &Chromosome,
+        sink: &mut S,
+        pending: &mut Pending<Self::State>,
+    ) {
+        (**self).express_with(chromosome, sink, pending);
+    }
+}

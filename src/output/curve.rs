@@ -1,9 +1,9 @@
-//! A run's progress curve: one row per generation.
+//! A run's progress curve: one row per generation, and `curve.csv`.
 
 use std::fmt::Write as _;
 
+use crate::optimize::GenerationStats;
 use serde::{Deserialize, Serialize};
-use shapegen::optimize::GenerationStats;
 
 /// One generation of a run.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

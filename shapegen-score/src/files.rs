@@ -1,0 +1,33 @@
+//! Writing result files so that no reader ever sees half of one.
+
+use std::io::{self, Write};
+use std::path::Path;
+
+use crate::error::ScoreError;
+
+/// Writes `bytes` to `path` atomically: a temporary file in the same
+/// folder, synced, then renamed over `path`; the temporary file is removed
+/// if any step fails.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), ScoreError> {
+    let name = path.file_name().map_or_else(
+        || std::ffi::OsString::from("output"),
+        std::ffi::OsStr::to_os_string,
+    );
+    let mut tmp_name = std::ffi::OsString::from(".");
+    tmp_name.push(&name);
+    tmp_name.push(format!(".{}.tmp", std::process::id()));
+    let tmp = path.with_file_name(tmp_name);
+    let write = || -> io::Result<()> {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        std::fs::rename(&tmp, path)
+    };
+    write().map_err(|source| {
+        std::fs::remove_file(&tmp).ok();
+        ScoreError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    })
+}

@@ -1,0 +1,184 @@
+//! `[ga]`, `[smc]`, `[sosmc]`, `[rjmcmc]` and budgets. A method without a
+//! table gets the paper's spaceship presets; a key left out of a table gets
+//! the preset's value.
+
+use std::collections::BTreeMap;
+use std::time::Duration;
+
+use toml::Spanned;
+
+use super::Ctx;
+use crate::experiment::file::{
+    BudgetFile, DelayedRejectionFile, EdgeMatchFile, ExperimentFile, GaFile, RjmcmcFile, SmcFile,
+};
+use crate::experiment::{ExperimentError, Method, MethodConfig, MethodParams};
+use crate::ops::{CrossoverConfig, EdgeMatch, InitLength, MutationSplit};
+use crate::optimize::{Budget, DelayedRejection, GaParams, RjmcmcParams, SmcParams};
+
+/// SMC and SOSMC particles without a table (the paper's spaceship).
+const PAPER_PARTICLES: usize = 500;
+/// RJMCMC chains and initial length without a table (the paper's spaceship).
+const PAPER_CHAINS: usize = 70;
+const PAPER_RJMCMC_LENGTH: u32 = 50;
+
+/// Every method's configuration.
+pub(super) fn from_file(
+    ctx: &Ctx<'_>,
+    f: &ExperimentFile,
+) -> Result<BTreeMap<Method, MethodConfig>, ExperimentError> {
+    Ok(BTreeMap::from([
+        (Method::Ga, ga(ctx, f.ga.as_ref())?),
+        (
+            Method::Smc,
+            smc(ctx, Method::Smc, f.smc.as_ref(), SmcParams::paper)?,
+        ),
+        (
+            Method::Sosmc,
+            smc(ctx, Method::Sosmc, f.sosmc.as_ref(), SmcParams::paper_sosmc)?,
+        ),
+        (Method::Rjmcmc, rjmcmc(ctx, f.rjmcmc.as_ref())?),
+    ]))
+}
+
+/// A `budget` table: at least one limit, seconds finite and positive.
+pub(super) fn budget(
+    ctx: &Ctx<'_>,
+    key: &str,
+    b: &Spanned<BudgetFile>,
+) -> Result<Budget, ExperimentError> {
+    let f = b.get_ref();
+    let mut out = Budget::default();
+    if let Some(s) = f.seconds {
+        if !(s > 0.0 && s.is_finite()) {
+            return Err(ctx.err(key, b, format!("seconds must be > 0, got {s}")));
+        }
+        out.wall_time = Some(Duration::from_secs_f64(s));
+    }
+    out.evaluations = f.evaluations;
+    out.generations = f.generations;
+    if out.is_unbounded() {
+        return Err(ctx.err(key, b, "give seconds, evaluations or generations"));
+    }
+    Ok(out)
+}
+
+/// A method's parameters after its own checks, with its budget.
+fn config(
+    ctx: &Ctx<'_>,
+    method: Method,
+    table: &Spanned<impl Sized>,
+    params: MethodParams,
+    problems: Vec<String>,
+    own_budget: Option<&Spanned<BudgetFile>>,
+) -> Result<MethodConfig, ExperimentError> {
+    if !problems.is_empty() {
+        return Err(ctx.err(method.name(), table, problems.join("; ")));
+    }
+    let key = format!("{method}.budget");
+    Ok(MethodConfig {
+        params,
+        budget: own_budget.map(|b| budget(ctx, &key, b)).transpose()?,
+    })
+}
+
+fn ga(ctx: &Ctx<'_>, table: Option<&Spanned<GaFile>>) -> Result<MethodConfig, ExperimentError> {
+    let preset = GaParams::paper_spaceship();
+    let Some(t) = table else {
+        return Ok(MethodConfig {
+            params: MethodParams::Ga(preset),
+            budget: None,
+        });
+    };
+    let g = t.get_ref();
+    let params = GaParams {
+        population: g.population,
+        elites: g.elites,
+        init: InitLength::Around { l0: g.init_length },
+        mutation_rate: g.mutation_rate,
+        mutation_split: MutationSplit::new(g.split.grow, g.split.cut, g.split.alter),
+        tournament: g.tournament.unwrap_or(preset.tournament),
+        crossover: CrossoverConfig {
+            max_retries: g.max_retries.unwrap_or(preset.crossover.max_retries),
+            edge_match: match g.crossover {
+                None => preset.crossover.edge_match,
+                Some(EdgeMatchFile::Strict) => EdgeMatch::Strict,
+                Some(EdgeMatchFile::ChildType) => EdgeMatch::ChildType,
+            },
+        },
+        elite_dedup: g.elite_dedup.unwrap_or(preset.elite_dedup),
+        ..preset
+    };
+    let problems = params.problems();
+    config(
+        ctx,
+        Method::Ga,
+        t,
+        MethodParams::Ga(params),
+        problems,
+        g.budget.as_ref(),
+    )
+}
+
+fn smc(
+    ctx: &Ctx<'_>,
+    method: Method,
+    table: Option<&Spanned<SmcFile>>,
+    preset: fn(usize) -> SmcParams,
+) -> Result<MethodConfig, ExperimentError> {
+    let Some(t) = table else {
+        return Ok(MethodConfig {
+            params: MethodParams::Smc(preset(PAPER_PARTICLES)),
+            budget: None,
+        });
+    };
+    let s = t.get_ref();
+    let params = preset(s.particles);
+    let problems = params.problems();
+    config(
+        ctx,
+        method,
+        t,
+        MethodParams::Smc(params),
+        problems,
+        s.budget.as_ref(),
+    )
+}
+
+fn rjmcmc(
+    ctx: &Ctx<'_>,
+    table: Option<&Spanned<RjmcmcFile>>,
+) -> Result<MethodConfig, ExperimentError> {
+    let Some(t) = table else {
+        let init = InitLength::Around {
+            l0: PAPER_RJMCMC_LENGTH,
+        };
+        return Ok(MethodConfig {
+            params: MethodParams::Rjmcmc(RjmcmcParams::paper(PAPER_CHAINS, init)),
+            budget: None,
+        });
+    };
+    let r = t.get_ref();
+    let mut params = RjmcmcParams::paper(r.chains, InitLength::Around { l0: r.init_length });
+    if let Some(p) = r.jump_probability {
+        params.jump_probability = p;
+    }
+    if let Some(a) = r.annealing {
+        params.annealing = (a != 1.0).then_some(a);
+    }
+    if let Some(d) = r.delayed_rejection {
+        params.delayed_rejection = match d {
+            DelayedRejectionFile::Off => DelayedRejection::Off,
+            DelayedRejectionFile::Exact => DelayedRejection::Exact,
+            DelayedRejectionFile::ApproxAlter => DelayedRejection::ApproxAlter,
+        };
+    }
+    let problems = params.problems();
+    config(
+        ctx,
+        Method::Rjmcmc,
+        t,
+        MethodParams::Rjmcmc(params),
+        problems,
+        r.budget.as_ref(),
+    )
+}

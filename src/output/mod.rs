@@ -1,0 +1,178 @@
+//! A run's result files, as the command line writes them, for programs that
+//! run experiments themselves:
+//!
+//! | file | what | written by |
+//! |---|---|---|
+//! | `best.obj` | the best model, with the meshes it was scored with | [`Experiment::write_model`] |
+//! | `target.obj` | the volume targets as placed | [`Experiment::write_model`] |
+//! | `slice_x/y/z.png` | middle voxel slices (volume scenes) | [`Experiment::write_model`] |
+//! | `overlay.png` | silhouette over the target (image scenes) | [`Experiment::write_model`] |
+//! | `best.json` | the best chromosome in the validated exchange form | [`write_chromosome`] |
+//! | `curve.csv` | per generation: seconds, evaluations, best, mean, std | [`write_curve`] |
+//! | `summary.json` | the run's figures, IoU/precision/recall per target | [`Summary`] |
+//!
+//! [`write_run`] writes them all. Every file is written atomically (a
+//! temporary file beside it, then a rename).
+//!
+//! ```
+//! use shapegen::experiment::{Experiment, Method};
+//! use shapegen::optimize::{Budget, NoObserver};
+//! use shapegen::output::{self, Summary};
+//!
+//! let experiment = Experiment::builtin();
+//! let result = experiment.run(Method::Ga, &Budget::generations(2), 1, None, &mut NoObserver)?;
+//! let summary = Summary::of(&experiment, Method::Ga, 1, &result);
+//! assert!(summary.quality[0].iou >= 0.0 && summary.quality[0].iou <= 1.0);
+//! let dir = std::env::temp_dir().join("shapegen-doc-output");
+//! let written = output::write_run(&experiment, &result, &[], &summary, &dir)?;
+//! assert!(written.iter().any(|p| p.ends_with("best.obj")));
+//! # std::fs::remove_dir_all(&dir).ok();
+//! # Ok::<(), shapegen::experiment::ExperimentError>(())
+//! ```
+
+mod curve;
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+pub use curve::{Row, number, to_csv};
+
+use crate::experiment::{Experiment, ExperimentError, Method};
+use crate::genome::Chromosome;
+use crate::optimize::{RunResult, StopReason};
+use crate::score::Quality;
+use crate::score::files::write_atomically;
+
+/// How the best model covers one target (see [`Quality`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TargetQuality {
+    /// Intersection over union of model and target cells (pixels).
+    pub iou: f64,
+    /// The share of the model's cells in the target.
+    pub precision: f64,
+    /// The share of the target's cells the model covers.
+    pub recall: f64,
+}
+
+impl From<Quality> for TargetQuality {
+    fn from(q: Quality) -> Self {
+        Self {
+            iou: q.iou,
+            precision: q.precision,
+            recall: q.recall,
+        }
+    }
+}
+
+/// What `summary.json` holds.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Summary {
+    /// The experiment's name.
+    pub experiment: String,
+    /// The generator.
+    pub generator: String,
+    /// The method.
+    pub method: String,
+    /// The seed.
+    pub seed: u64,
+    /// Best fitness found.
+    pub best_fitness: f64,
+    /// The experiment's optimum, if known.
+    pub optimum: Option<f64>,
+    /// Per target, how the best model covers it.
+    pub quality: Vec<TargetQuality>,
+    /// Genes of the best chromosome.
+    pub best_genes: usize,
+    /// Fitness evaluations.
+    pub evaluations: u64,
+    /// Generations after the initial one.
+    pub generations: u64,
+    /// Wall-clock seconds (including time before a resumed checkpoint).
+    pub seconds: f64,
+    /// Why the run stopped.
+    pub stop: StopReason,
+    /// Worker threads (0 if unknown).
+    pub threads: usize,
+    /// Whether the run was resumed from a checkpoint.
+    pub resumed: bool,
+}
+
+impl Summary {
+    /// The summary of `result`, a run of `method` with `seed` on
+    /// `experiment` (`threads` 0, not resumed: set them if known).
+    #[must_use]
+    pub fn of(experiment: &Experiment, method: Method, seed: u64, result: &RunResult) -> Self {
+        Self {
+            experiment: experiment.name().to_string(),
+            generator: experiment.generator().to_string(),
+            method: method.name().to_string(),
+            seed,
+            best_fitness: result.best_fitness,
+            optimum: experiment.optimum(),
+            quality: experiment
+                .quality(&result.best)
+                .into_iter()
+                .map(TargetQuality::from)
+                .collect(),
+            best_genes: result.best.len(),
+            evaluations: result.evaluations,
+            generations: result.generations,
+            seconds: result.elapsed.as_secs_f64(),
+            stop: result.stop,
+            threads: 0,
+            resumed: false,
+        }
+    }
+}
+
+/// Writes every result file of a run into `dir` (created if missing):
+/// the model and pictures, `best.json`, `curve.csv` and `summary.json`.
+/// Returns their paths.
+pub fn write_run(
+    experiment: &Experiment,
+    result: &RunResult,
+    curve: &[Row],
+    summary: &Summary,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, ExperimentError> {
+    let mut written = experiment.write_model(&result.best, dir)?;
+    let best = dir.join("best.json");
+    write_chromosome(&best, experiment, &result.best)?;
+    let csv = dir.join("curve.csv");
+    write_curve(&csv, curve)?;
+    let json = dir.join("summary.json");
+    write_json(&json, summary)?;
+    written.extend([best, csv, json]);
+    Ok(written)
+}
+
+/// Writes `chromosome` of `experiment`'s generator as JSON (`best.json`),
+/// in the form [`Experiment::chromosome`] reads back.
+pub fn write_chromosome(
+    path: &Path,
+    experiment: &Experiment,
+    chromosome: &Chromosome,
+) -> Result<(), ExperimentError> {
+    write_json(path, &chromosome.to_data(experiment.graph()))
+}
+
+/// Writes the rows as CSV (`curve.csv`, see [`to_csv`]).
+pub fn write_curve(path: &Path, rows: &[Row]) -> Result<(), ExperimentError> {
+    Ok(write_atomically(path, to_csv(rows).as_bytes())?)
+}
+
+/// Writes `value` as pretty JSON, atomically.
+pub fn write_json(path: &Path, value: &impl Serialize) -> Result<(), ExperimentError> {
+    let text = serde_json::to_string_pretty(value).map_err(|e| ExperimentError::write(path, e))?;
+    Ok(write_atomically(path, text.as_bytes())?)
+}
+
+/// Mean IoU over targets, for one-number displays.
+#[must_use]
+pub fn mean_iou(quality: &[Quality]) -> f64 {
+    if quality.is_empty() {
+        return 0.0;
+    }
+    quality.iter().map(|q| q.iou).sum::<f64>() / quality.len() as f64
+}
