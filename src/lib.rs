@@ -16,9 +16,12 @@
 //! genomes, operators, the GA and the SMC, SOSMC and RJMCMC baselines,
 //! expression) as its own modules and [`shapegen_score`] (meshes, OBJ,
 //! voxel and silhouette scoring) as [`score`], and holds the [`generator!`]
-//! macro, the paper's [`scenes`], [`experiment`] files (a generator, its
-//! targets, score, limits, methods and budget in TOML), built-in [`demo`]
-//! problems and the `shapegen` command line.
+//! macro, the paper's [`scenes`], the [`registry`] of generators that
+//! [`experiment`] files (a generator, its targets, score, limits, methods
+//! and budget in TOML) name, the result files ([`output`]), built-in
+//! [`demo`] problems and the `shapegen` command line as a library
+//! (`cli`, feature `cli`, on by default): a program registers its own
+//! generator and gets the whole command line for it.
 //!
 //! ## Running an experiment
 //!

@@ -18,7 +18,7 @@ use std::fmt;
 use std::sync::Arc;
 
 use crate::experiment::ExperimentError;
-use crate::experiment::problem::{ModelProblem, Problem, SceneSetup};
+use crate::experiment::problem::{ModelProblem, Problem, SceneOutputs, SceneSetup};
 use crate::express::Generator;
 use crate::graph::Graph;
 use crate::score::ModelFitness;
@@ -150,23 +150,41 @@ where
         shapes: ShapeMeshes,
         scene: SceneSetup,
     ) -> Result<Box<dyn Problem>, ExperimentError> {
-        let limits = *graph.limits();
         let generator = Arc::clone(&self.0);
-        Ok(match scene {
+        match scene {
             SceneSetup::Volume {
                 scene,
                 score,
                 targets,
-            } => Box::new(ModelProblem {
-                graph,
-                fitness: ModelFitness::new(generator, scene, &shapes, score)?.with_limits(limits),
-                target_meshes: Some(targets),
-            }),
-            SceneSetup::Image { scene, score } => Box::new(ModelProblem {
-                graph,
-                fitness: ModelFitness::new(generator, scene, &shapes, score)?.with_limits(limits),
-                target_meshes: None,
-            }),
-        })
+            } => boxed(graph, generator, &shapes, scene, score, Some(targets)),
+            SceneSetup::Image { scene, score } => {
+                boxed(graph, generator, &shapes, scene, score, None)
+            }
+        }
     }
+}
+
+/// `generator` scored on `scene`: the one path volume and image scenes share.
+fn boxed<G, S>(
+    graph: Graph,
+    generator: G,
+    shapes: &ShapeMeshes,
+    scene: S,
+    score: S::Score,
+    target_meshes: Option<ShapeMeshes>,
+) -> Result<Box<dyn Problem>, ExperimentError>
+where
+    G: Generator + Send + 'static,
+    G::State: Send,
+    S: SceneOutputs + Send + Sync + 'static,
+    S::Shape: Send + Sync,
+    S::Score: Send + Sync,
+{
+    let limits = *graph.limits();
+    let fitness = ModelFitness::new(generator, scene, shapes, score)?.with_limits(limits);
+    Ok(Box::new(ModelProblem {
+        graph,
+        fitness,
+        target_meshes,
+    }))
 }

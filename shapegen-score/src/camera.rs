@@ -22,7 +22,17 @@ pub enum Projection {
 /// A camera with an image size. View coordinates are `(X, Y, Z)` =
 /// (right, up, forward) components of `p − eye`; only depths `Z` in
 /// `[near, far]` are seen. Pixel `(c, r)` (column, row from the top) has its
-/// centre at `(c + ½, r + ½)` in pixel coordinates.
+/// centre at `(c + ½, r + ½)` in pixel coordinates: `right` points to
+/// growing columns, `up` to the top row.
+///
+/// # Handedness
+///
+/// [`Camera::look_at`] is the usual right-handed camera of OpenGL and
+/// Blender: `right = forward × up`, so a camera on +z looking at the origin
+/// with +y up shows world +x on the right. [`Camera::orbit`] and
+/// [`Camera::orthographic`] keep the paper's reference code,
+/// `right = up × forward`: the mirror image, world +x on the *left* in that
+/// view. The paper's targets were drawn for it; use `look_at` for new scenes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
     /// Eye position.
@@ -86,7 +96,43 @@ impl Camera {
         cam.check()
     }
 
-    /// An orthographic camera looking along `forward` from `eye`.
+    /// A right-handed perspective camera (OpenGL, Blender) at `eye` looking
+    /// at `target`, with `up` pointing up on screen (made orthogonal to the
+    /// view direction) and `right = forward × up`. `fov_y` is the vertical
+    /// field of view in radians.
+    #[allow(clippy::too_many_arguments)]
+    pub fn look_at(
+        eye: DVec3,
+        target: DVec3,
+        up: DVec3,
+        fov_y: f64,
+        near: f64,
+        far: f64,
+        size: (u32, u32),
+    ) -> Result<Self, ScoreError> {
+        let forward = (target - eye).normalize_or_zero();
+        let right = forward.cross(up).normalize_or_zero();
+        if forward == DVec3::ZERO || right == DVec3::ZERO {
+            return Err(ScoreError::Camera(
+                "look_at needs eye ≠ target and an up vector not along the view direction".into(),
+            ));
+        }
+        Self {
+            eye,
+            right,
+            up: right.cross(forward),
+            forward,
+            projection: Projection::Perspective { fov_y },
+            near,
+            far,
+            width: size.0,
+            height: size.1,
+        }
+        .check()
+    }
+
+    /// An orthographic camera looking along `forward` from `eye`, with the
+    /// paper's handedness (`right = up × forward`; see [`Camera`]).
     pub fn orthographic(
         eye: DVec3,
         forward: DVec3,
@@ -273,6 +319,46 @@ mod tests {
         let (o, d) = cam.pixel_ray(100, 200);
         let p = cam.to_pixel(cam.view(o + 3.0 * d));
         assert!((p - DVec2::new(100.5, 200.5)).length() < 1e-9);
+    }
+
+    #[test]
+    fn which_way_world_x_points_on_screen() {
+        let size = (101, 101);
+        let x = |cam: &Camera| cam.to_pixel(cam.view(DVec3::X)).x - 50.5;
+        let y = |cam: &Camera| cam.to_pixel(cam.view(DVec3::Y)).y - 50.5;
+        // Both cameras on +z looking at the origin, +y up.
+        let look = Camera::look_at(
+            DVec3::new(0.0, 0.0, 5.0),
+            DVec3::ZERO,
+            DVec3::Y,
+            1.0,
+            0.1,
+            100.0,
+            size,
+        )
+        .unwrap();
+        let orbit = Camera::orbit(
+            std::f64::consts::FRAC_PI_2,
+            0.0,
+            5.0,
+            DVec3::ZERO,
+            1.0,
+            0.1,
+            100.0,
+            size,
+        )
+        .unwrap();
+        assert!((orbit.eye - look.eye).length() < 1e-12);
+        assert!((look.forward - orbit.forward).length() < 1e-12);
+        // look_at: +x to the right (growing columns), the OpenGL/Blender view.
+        assert!(x(&look) > 5.0, "{}", x(&look));
+        // orbit: the paper's mirror image, +x to the left.
+        assert!(x(&orbit) < -5.0, "{}", x(&orbit));
+        // Both: +y up on screen (smaller row numbers).
+        assert!(y(&look) < -5.0 && y(&orbit) < -5.0);
+        // A degenerate look_at is an error.
+        assert!(Camera::look_at(DVec3::ZERO, DVec3::ZERO, DVec3::Y, 1.0, 0.1, 10.0, size).is_err());
+        assert!(Camera::look_at(DVec3::ZERO, DVec3::Y, DVec3::Y, 1.0, 0.1, 10.0, size).is_err());
     }
 
     #[test]

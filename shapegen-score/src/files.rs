@@ -31,3 +31,14 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), ScoreError> {
         }
     })
 }
+
+/// Encodes `img` as PNG and writes it to `path` atomically.
+pub fn write_png(path: &Path, img: &image::RgbImage) -> Result<(), ScoreError> {
+    let mut bytes = Vec::new();
+    img.write_to(&mut io::Cursor::new(&mut bytes), image::ImageFormat::Png)
+        .map_err(|e| ScoreError::Image {
+            path: path.to_path_buf(),
+            reason: e.to_string(),
+        })?;
+    write_atomically(path, &bytes)
+}

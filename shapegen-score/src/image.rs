@@ -217,10 +217,7 @@ impl ImageTarget {
                 (false, false) => [255, 255, 255],
             })
         });
-        img.save(path).map_err(|e| ScoreError::Image {
-            path: path.to_path_buf(),
-            reason: e.to_string(),
-        })
+        crate::files::write_png(path, &img)
     }
 }
 

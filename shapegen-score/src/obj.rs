@@ -53,6 +53,19 @@ impl ShapeMeshes {
         Ok(())
     }
 
+    /// Checks that these are the meshes of the shapes `names` (a
+    /// generator's, in its order).
+    pub fn check_for(&self, names: &[Cow<'static, str>]) -> Result<(), ScoreError> {
+        if self.names.as_slice() == names {
+            return Ok(());
+        }
+        Err(ScoreError::Target(format!(
+            "the meshes are for shapes [{}], the generator emits [{}]",
+            self.names.join(", "),
+            names.join(", ")
+        )))
+    }
+
     /// Number of shapes.
     #[must_use]
     pub fn len(&self) -> usize {
@@ -114,14 +127,7 @@ pub fn write_model<G: Generator>(
     chromosome: &Chromosome,
     shapes: &ShapeMeshes,
 ) -> Result<(), ScoreError> {
-    let names = generator.shapes();
-    if shapes.len() != names.len() {
-        return Err(ScoreError::Target(format!(
-            "{} meshes for the generator's {} shapes",
-            shapes.len(),
-            names.len()
-        )));
-    }
+    shapes.check_for(generator.shapes())?;
     let mut model = Instances::default();
     generator.express(chromosome, &mut model);
     let mut text = Vec::new();

@@ -320,19 +320,7 @@ impl<G: Generator, S: Scene> ModelFitness<G, S> {
         shapes: &ShapeMeshes,
         score: S::Score,
     ) -> Result<Self, ScoreError> {
-        let names = generator.shapes();
-        if shapes.len() != names.len()
-            || (0..names.len()).any(|i| shapes.name(i as u16) != names[i])
-        {
-            return Err(ScoreError::Target(format!(
-                "the meshes are for shapes [{}], the generator emits [{}]",
-                (0..shapes.len())
-                    .map(|i| shapes.name(i as u16))
-                    .collect::<Vec<_>>()
-                    .join(", "),
-                names.join(", ")
-            )));
-        }
+        shapes.check_for(generator.shapes())?;
         let prepared = (0..generator.shapes().len())
             .map(|i| scene.prepare(shapes.name(i as u16), shapes.mesh(i as u16)))
             .collect::<Result<_, _>>()?;

@@ -452,6 +452,6 @@ impl VolumeScene {
                 (false, _) => [130, 20, 20],
             })
         });
-        img.save(path).map_err(|e| bad(e.to_string()))
+        crate::files::write_png(path, &img)
     }
 }

@@ -151,3 +151,118 @@ fn bad_images_are_clear_errors_and_overlays_round_trip() {
     assert_eq!(back.target_pixels(), 16);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A 40×30 PNG: a disk of radius 8 at the centre drawn with `inside`, the
+/// rest `outside` (RGBA).
+fn disk_png(name: &str, inside: [u8; 4], outside: [u8; 4]) -> std::path::PathBuf {
+    let path =
+        std::env::temp_dir().join(format!("shapegen-mask-{name}-{}.png", std::process::id()));
+    let img = image::RgbaImage::from_fn(40, 30, |c, r| {
+        let (dx, dy) = (c as f32 + 0.5 - 20.0, r as f32 + 0.5 - 15.0);
+        image::Rgba(if dx * dx + dy * dy < 64.0 {
+            inside
+        } else {
+            outside
+        })
+    });
+    img.save(&path).unwrap();
+    path
+}
+
+/// Pixels of the disk of [`disk_png`].
+fn disk_pixels() -> u64 {
+    (0..40 * 30)
+        .filter(|i| {
+            let (dx, dy) = ((i % 40) as f32 + 0.5 - 20.0, (i / 40) as f32 + 0.5 - 15.0);
+            dx * dx + dy * dy < 64.0
+        })
+        .count() as u64
+}
+
+#[test]
+fn png_masks_read_transparency_and_shading() {
+    use shapegen_score::image::PngMask;
+    let cam = camera(40, 30);
+    let masked =
+        |path: &std::path::Path, mask| ImageTarget::from_png_masked(path, cam, mask, 1.0, -1.0);
+    let dark = PngMask::Dark { threshold: 0.5 };
+    let alpha = PngMask::Alpha { threshold: 0.5 };
+    let alpha_dark = PngMask::AlphaDark { threshold: 0.5 };
+
+    // Black strokes on a transparent *black* background: transparency is
+    // read, so only the disk is target, never 100 %.
+    let cutout = disk_png("cutout", [0, 0, 0, 255], [0, 0, 0, 0]);
+    for mask in [PngMask::Red0, dark, alpha, alpha_dark] {
+        let t = masked(&cutout, mask).unwrap();
+        assert_eq!(t.target_pixels(), disk_pixels(), "{}", mask.name());
+    }
+
+    // A white shape on a transparent background: only opacity finds it.
+    let white = disk_png("white", [255, 255, 255, 255], [0, 0, 0, 0]);
+    assert_eq!(
+        masked(&white, alpha).unwrap().target_pixels(),
+        disk_pixels()
+    );
+    let err = masked(&white, dark).unwrap_err().to_string();
+    assert!(err.contains("no pixel") && err.contains("alpha"), "{err}");
+
+    // A shaded render (grey, red 120) on white: the paper's red-0 rule finds
+    // nothing and says what to use; `dark` finds the model.
+    let render = disk_png("render", [120, 110, 100, 255], [255, 255, 255, 255]);
+    let err = masked(&render, PngMask::Red0).unwrap_err().to_string();
+    assert!(
+        err.contains("red0") && err.contains("no pixel") && err.contains("dark"),
+        "{err}"
+    );
+    assert_eq!(
+        masked(&render, dark).unwrap().target_pixels(),
+        disk_pixels()
+    );
+    // Too low a threshold finds nothing either; opacity finds every pixel: both errors.
+    assert!(masked(&render, PngMask::Dark { threshold: 0.1 }).is_err());
+    let err = masked(&render, alpha).unwrap_err().to_string();
+    assert!(err.contains("every pixel"), "{err}");
+
+    // An image of another size names both sizes.
+    let err = ImageTarget::from_png_masked(&render, camera(80, 60), dark, 1.0, -1.0)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("40×30") && err.contains("80×60"), "{err}");
+    for p in [cutout, white, render] {
+        std::fs::remove_file(p).ok();
+    }
+}
+
+#[test]
+fn quality_counts_pixels_of_the_model_and_the_target() {
+    use shapegen_score::{ImageTargets, Quality};
+    // An orthographic camera on −z: pixel (c, r) sees x = 10 − c − ½ (the
+    // paper's mirrored handedness), y = 5 − r − ½, over 20 × 10 pixels.
+    let cam = Camera::orthographic(
+        DVec3::new(0.0, 0.0, -5.0),
+        DVec3::Z,
+        DVec3::Y,
+        10.0,
+        0.1,
+        20.0,
+        (20, 10),
+    )
+    .unwrap();
+    // Target: the left half of the image (100 pixels).
+    let weights = (0..200)
+        .map(|i| if i % 20 < 10 { 1.0 } else { -1.0 })
+        .collect();
+    let targets = ImageTargets::new(vec![ImageTarget::new(cam, weights).unwrap()]).unwrap();
+    // Model: a 10 × 10 box covering the middle 10 columns (50 in the target).
+    let shape = RasterShape::new("cube", &Mesh::unit_cube()).unwrap();
+    let mut scratch = ImageScratch::new(targets.targets());
+    scratch.begin();
+    scratch.add(
+        targets.targets(),
+        &shape,
+        &Affine3A::from_scale(Vec3::new(10.0, 10.0, 1.0)),
+    );
+    let q = targets.quality(&scratch);
+    assert_eq!(q, vec![Quality::from_counts(50, 100, 100)]);
+    assert!((q[0].iou - 1.0 / 3.0).abs() < 1e-12);
+}

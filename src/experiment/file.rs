@@ -172,14 +172,18 @@ pub(super) enum MaskFile {
     AlphaDark,
 }
 
-/// `camera = {..}` of an image target: the paper's orbit camera.
+/// `camera = {..}` of an image target: the paper's orbit camera (`phi`,
+/// `theta`, `r`, `look_at`) or a right-handed one (`eye`, `target`, `up`).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct CameraFile {
-    pub phi: f64,
-    pub theta: f64,
-    pub r: f64,
-    pub look_at: [f64; 3],
+    pub phi: Option<f64>,
+    pub theta: Option<f64>,
+    pub r: Option<f64>,
+    pub look_at: Option<[f64; 3]>,
+    pub eye: Option<[f64; 3]>,
+    pub target: Option<[f64; 3]>,
+    pub up: Option<[f64; 3]>,
     pub fov: Option<f64>,
     pub near: Option<f64>,
     pub far: Option<f64>,

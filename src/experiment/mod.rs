@@ -17,7 +17,7 @@
 //! ```toml
 //! name = "spaceship-volume"             # optional; defaults to the file name
 //! description = "Paper Fig. 3 / Fig. 7 left"
-//! generator = "spaceship"   # spaceship | tree_v1 | tree_v2 | space_filling_city | grid_city
+//! generator = "spaceship"   # a name in the registry: the built-ins (see `scenes::register`) or a program's own
 //! data = "../../../shared/data/paper"   # what ${data} means (relative to this file)
 //! seed = 1
 //! method = "ga"             # the method `shapegen run` uses without --method
@@ -33,9 +33,9 @@
 //! # evaluations = 20000
 //! # generations = 130
 //!
-//! [shapes.leaf]             # replace a generator shape's built-in mesh
+//! [shapes.leaf]             # a generator shape's mesh (needed for shapes without a built-in one)
 //! mesh = "${data}/leaf.obj"
-//! normalize = true          # scale into the unit box, as the paper's shapes
+//! normalize = true          # scale each axis into the unit box, as the paper's shapes
 //!
 //! [score]
 //! form = "normalized"       # or "paper" (the paper's linear s_vol / s_img)
@@ -55,16 +55,29 @@
 //! fill = 1.0                # weight of a covered target cell
 //! outside = 0.0             # weight of a model cell outside this target
 //! # inside = "winding"      # a mesh with holes: generalized winding number, not ray parity
+//! # Placing a target given in other units (applied in this order):
+//! # scale = 0.01            # or [sx, sy, sz]
+//! # rotate = [-90.0, 0.0, 0.0]  # degrees about x, then y, then z (e.g. a y-up mesh into a z-up grid)
+//! # translate = [0.0, 0.0, 8.0]
+//! # fit = "grid"            # or { min = [..], max = [..] }: uniform scale and centre into the box
+//! #                         # (after `rotate`; not with `scale` or `translate`)
 //!
 //! # [image]                 # ... or an image scene
 //! # width = 800
 //! # height = 600
 //! # [[image.targets]]
-//! # png = "${data}/tree_target_sketch1.png"  # red 0 = target; or pfm = "weights.pfm"
+//! # png = "${data}/tree_target_sketch1.png"  # or pfm = "weights.pfm" (signed weights per pixel)
+//! # mask = "red0"           # PNG: which pixels are target: "red0" (red channel 0, the paper's
+//! #                         # sketches; default), "dark" (luminance < threshold: a drawing or a
+//! #                         # shaded render on white), "alpha" (opacity >= threshold: a cut-out
+//! #                         # on a transparent background), "alpha_dark" (opaque and dark)
+//! # threshold = 0.5         # of dark / alpha / alpha_dark; transparency is always read
 //! # target = 1.0            # PNG: weight of target pixels
 //! # background = -1.0       # PNG: weight of the others
 //! # camera = { phi = -1.5708, theta = 0.0, r = 9.4716, look_at = [-0.681, 3.2558, 0.0],
-//! #            fov = 60.0, near = 0.1, far = 100.0 }   # degrees for fov
+//! #            fov = 60.0, near = 0.1, far = 100.0 }   # the paper's orbit camera; degrees for fov
+//! # camera = { eye = [0.0, 3.0, 9.0], target = [0.0, 3.0, 0.0], up = [0.0, 1.0, 0.0] }
+//! #                         # or a right-handed look-at camera (OpenGL/Blender; see score::camera)
 //!
 //! [ga]
 //! population = 150
@@ -85,7 +98,9 @@
 //! # jump_probability = 0.5, annealing = 1.1 (1 = off), delayed_rejection = "off" | "exact" | "approx_alter"
 //! ```
 //!
-//! Relative paths resolve against the file's folder; `${data}` stands for
+//! A target that covers no cell (outside the grid, not closed, too small)
+//! and a PNG whose mask selects no pixel or every pixel are errors that say
+//! why. Relative paths resolve against the file's folder; `${data}` stands for
 //! the data directory: [`LoadOptions::data`] (the CLI's `--data` or the
 //! `SHAPEGEN_DATA` environment variable) if given, else the file's `data`.
 //! A method without a table gets the spaceship presets of the paper. Every

@@ -265,3 +265,192 @@ fn cells_outside_the_grid_may_be_counted_by_instance_boxes() {
     ));
     assert_eq!(key, "volume.outside_count");
 }
+
+/// A box mesh `[lo, hi]` as OBJ text.
+fn box_obj(lo: [f64; 3], hi: [f64; 3]) -> String {
+    let mut text = String::new();
+    for k in 0..8 {
+        let c = |a: usize| if k >> a & 1 == 1 { hi[a] } else { lo[a] };
+        text += &format!("v {} {} {}\n", c(0), c(1), c(2));
+    }
+    // Outward faces of the corners numbered by bits (x, y, z).
+    for f in [
+        [1, 3, 4, 2],
+        [5, 6, 8, 7],
+        [1, 2, 6, 5],
+        [3, 7, 8, 4],
+        [1, 5, 7, 3],
+        [2, 4, 8, 6],
+    ] {
+        text += &format!(
+            "f {} {} {}\nf {} {} {}\n",
+            f[0], f[1], f[2], f[0], f[2], f[3]
+        );
+    }
+    text
+}
+
+#[test]
+fn targets_are_placed_by_scale_rotate_translate_and_fit() {
+    let dir = std::env::temp_dir().join(format!("shapegen-place-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // A target in other units: 2000 × 1000 × 1000, far from the grid.
+    let obj = dir.join("huge.obj");
+    std::fs::write(
+        &obj,
+        box_obj([4000.0, -500.0, -500.0], [6000.0, 500.0, 500.0]),
+    )
+    .unwrap();
+    let file = MINIMAL.replace(
+        "builtin = \"ship\"",
+        &format!("mesh = {:?}", obj.display().to_string()),
+    );
+    // As it is: an error that says it lies outside the grid and how to place it.
+    let (_, key, msg) = invalid(&file);
+    assert_eq!(key, "volume.targets[0]");
+    assert!(
+        msg.contains("outside the grid") && msg.contains("fit"),
+        "{msg}"
+    );
+    // Fitted into the grid [-5, 5]² × [-2, 18] with its proportions: the
+    // scale is 10 / 2000, so it becomes x ∈ [-5, 5], y ∈ [-2.5, 2.5],
+    // z ∈ [5.5, 10.5]: 10 × 10 × 2 cell centres of 1 × 0.5 × 2.
+    let fitted = load(&file.replace(
+        "[[volume.targets]]\n",
+        "[[volume.targets]]\nfit = \"grid\"\n",
+    ))
+    .unwrap();
+    assert!(
+        fitted.scene().contains("with 200 target cells"),
+        "{}",
+        fitted.scene()
+    );
+    // The same by hand: scale, then rotate (90° about z swaps x and y: 5 × 10 × 5), then translate.
+    let by_hand = load(&file.replace(
+        "[[volume.targets]]\n",
+        "[[volume.targets]]\nscale = 0.005\nrotate = [0.0, 0.0, 90.0]\ntranslate = [0.3, -25.0, 8.0]\n",
+    ))
+    .unwrap();
+    // x ∈ [-2.2, 2.8] (5 centres), y ∈ [-5, 5] (20), z ∈ [5.5, 10.5] (2).
+    assert!(
+        by_hand.scene().contains("with 200 target cells"),
+        "{}",
+        by_hand.scene()
+    );
+    // fit into a box, and mistakes.
+    let boxed = load(&file.replace(
+        "[[volume.targets]]\n",
+        "[[volume.targets]]\nfit = { min = [-1.0, -1.0, 0.0], max = [1.0, 1.0, 6.0] }\n",
+    ))
+    .unwrap();
+    // 2 × 1 × 1 → x ∈ [-1, 1] (2 centres), y ∈ [-0.5, 0.5] (2), z ∈ [2.5, 3.5] (1).
+    assert!(
+        boxed.scene().contains("with 4 target cells"),
+        "{}",
+        boxed.scene()
+    );
+    let with = |extra: &str| {
+        file.replace(
+            "[[volume.targets]]\n",
+            &format!("[[volume.targets]]\n{extra}\n"),
+        )
+    };
+    let (_, key, msg) = invalid(&with("fit = \"grid\"\nscale = 2.0"));
+    assert_eq!(key, "volume.targets[0].fit");
+    assert!(msg.contains("drop `scale`"), "{msg}");
+    let (_, key, _) = invalid(&with("fit = \"room\""));
+    assert_eq!(key, "volume.targets[0].fit");
+    let (_, key, _) = invalid(&with("scale = -1.0"));
+    assert_eq!(key, "volume.targets[0].scale");
+    let (_, key, _) = invalid(&with(
+        "fit = { min = [1.0, 1.0, 1.0], max = [0.0, 2.0, 2.0] }",
+    ));
+    assert_eq!(key, "volume.targets[0].fit");
+    // target.obj shows the target as placed.
+    let out = dir.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let c = crate::ops::random_individual(
+        fitted.graph(),
+        &crate::ops::InitLength::Around { l0: 6 },
+        &mut crate::rng::stream(1, &[]),
+    )
+    .unwrap();
+    fitted.write_model(&c, &out).unwrap();
+    let target = std::fs::read_to_string(out.join("target.obj")).unwrap();
+    let vertices: Vec<[f32; 3]> = target
+        .lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|l| {
+            let v: Vec<f32> = l.split(' ').map(|x| x.parse().unwrap()).collect();
+            [v[0], v[1], v[2]]
+        })
+        .collect();
+    for (a, (lo, hi)) in [(-5.0, 5.0), (-2.5, 2.5), (5.5, 10.5)]
+        .into_iter()
+        .enumerate()
+    {
+        let min = vertices.iter().map(|v| v[a]).fold(f32::MAX, f32::min);
+        let max = vertices.iter().map(|v| v[a]).fold(f32::MIN, f32::max);
+        assert!(
+            (min - lo).abs() < 1e-4 && (max - hi).abs() < 1e-4,
+            "axis {a}: {min} {max}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn image_targets_take_a_mask_and_either_camera() {
+    let dir = std::env::temp_dir().join(format!("shapegen-mask-exp-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("render.png");
+    // A grey square on white, 16 × 12.
+    image::RgbImage::from_fn(16, 12, |c, r| {
+        image::Rgb(if (4..12).contains(&c) && (2..10).contains(&r) {
+            [90, 90, 90]
+        } else {
+            [255; 3]
+        })
+    })
+    .save(&png)
+    .unwrap();
+    let file = |target: &str| {
+        format!(
+            "generator = \"tree_v2\"\n[score]\nform = \"normalized\"\n[image]\nwidth = 16\nheight = 12\n[[image.targets]]\npng = {:?}\n{target}\n",
+            png.display().to_string()
+        )
+    };
+    let orbit = "camera = { phi = -1.5708, theta = 0.0, r = 9.0, look_at = [0.0, 3.0, 0.0] }";
+    let look = "camera = { eye = [0.0, 3.0, 9.0], target = [0.0, 3.0, 0.0] }";
+    // The paper's rule finds no red-0 pixel: an error naming the key and the fix.
+    let (_, key, msg) = invalid(&file(orbit));
+    assert_eq!(key, "image.targets[0].png");
+    assert!(
+        msg.contains("mask = \\\"dark\\\"") || msg.contains("mask = \"dark\""),
+        "{msg}"
+    );
+    let dark = load(&file(&format!("mask = \"dark\"\n{orbit}"))).unwrap();
+    assert!(
+        dark.scene().contains("with 64 target pixels"),
+        "{}",
+        dark.scene()
+    );
+    let dark = load(&file(&format!("mask = \"dark\"\nthreshold = 0.4\n{look}"))).unwrap();
+    assert!(
+        dark.scene().contains("with 64 target pixels"),
+        "{}",
+        dark.scene()
+    );
+    // A threshold out of range, a threshold for red0, a camera mixing both kinds.
+    let (_, key, _) = invalid(&file(&format!("mask = \"dark\"\nthreshold = 1.5\n{orbit}")));
+    assert_eq!(key, "image.targets[0].threshold");
+    let (_, key, _) = invalid(&file(&format!("threshold = 0.5\n{orbit}")));
+    assert_eq!(key, "image.targets[0].threshold");
+    let mixed = "camera = { eye = [0.0, 3.0, 9.0], target = [0.0, 3.0, 0.0], r = 2.0 }";
+    let (_, key, msg) = invalid(&file(&format!("mask = \"dark\"\n{mixed}")));
+    assert_eq!(key, "image.targets[0].camera");
+    assert!(msg.contains("not both"), "{msg}");
+    let (_, key, _) = invalid(&file("mask = \"dark\"\ncamera = { eye = [0.0, 3.0, 9.0] }"));
+    assert_eq!(key, "image.targets[0].camera");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -5,7 +5,7 @@ use toml::Spanned;
 
 use super::Ctx;
 use crate::experiment::ExperimentError;
-use crate::experiment::file::{ImageFile, ImageTargetFile, MaskFile};
+use crate::experiment::file::{CameraFile, ImageFile, ImageTargetFile, MaskFile};
 use crate::glam::DVec3;
 use crate::score::ImageTargets;
 use crate::score::camera::Camera;
@@ -45,18 +45,7 @@ fn target(
     size: (u32, u32),
 ) -> Result<ImageTarget, ExperimentError> {
     let tf = t.get_ref();
-    let c = tf.camera.get_ref();
-    let camera = Camera::orbit(
-        c.phi,
-        c.theta,
-        c.r,
-        DVec3::from_array(c.look_at),
-        c.fov.unwrap_or(60.0).to_radians(),
-        c.near.unwrap_or(0.1),
-        c.far.unwrap_or(100.0),
-        size,
-    )
-    .map_err(|e| ctx.err(&format!("{key}.camera"), &tf.camera, e.to_string()))?;
+    let camera = camera(ctx, &format!("{key}.camera"), &tf.camera, size)?;
     match (&tf.png, &tf.pfm) {
         (Some(png), None) => {
             let key = format!("{key}.png");
@@ -83,6 +72,64 @@ fn target(
         }
         _ => Err(ctx.err(key, t, "give exactly one of `png` and `pfm`")),
     }
+}
+
+/// The orbit camera (`phi`, `theta`, `r`, `look_at`) or, with `eye`, the
+/// right-handed look-at camera (`eye`, `target`, `up`).
+fn camera(
+    ctx: &Ctx<'_>,
+    key: &str,
+    spanned: &Spanned<CameraFile>,
+    size: (u32, u32),
+) -> Result<Camera, ExperimentError> {
+    let c = spanned.get_ref();
+    let err = |m: String| ctx.err(key, spanned, m);
+    let fov = c.fov.unwrap_or(60.0).to_radians();
+    let (near, far) = (c.near.unwrap_or(0.1), c.far.unwrap_or(100.0));
+    let camera = match (c.eye, c.target) {
+        (Some(eye), Some(target)) => {
+            if c.phi.is_some() || c.theta.is_some() || c.r.is_some() || c.look_at.is_some() {
+                return Err(err(
+                    "give either the orbit camera (phi, theta, r, look_at) or eye and target, not both".into(),
+                ));
+            }
+            let up = c.up.unwrap_or([0.0, 1.0, 0.0]);
+            Camera::look_at(
+                DVec3::from_array(eye),
+                DVec3::from_array(target),
+                DVec3::from_array(up),
+                fov,
+                near,
+                far,
+                size,
+            )
+        }
+        (Some(_), None) | (None, Some(_)) => {
+            return Err(err("a look-at camera needs both `eye` and `target`".into()));
+        }
+        (None, None) => {
+            if c.up.is_some() {
+                return Err(err("`up` belongs to a look-at camera (eye, target, up); the orbit camera's up follows from theta".into()));
+            }
+            let (Some(phi), Some(theta), Some(r), Some(look_at)) = (c.phi, c.theta, c.r, c.look_at)
+            else {
+                return Err(err(
+                    "give the orbit camera's phi, theta, r and look_at (or eye and target for a look-at camera)".into(),
+                ));
+            };
+            Camera::orbit(
+                phi,
+                theta,
+                r,
+                DVec3::from_array(look_at),
+                fov,
+                near,
+                far,
+                size,
+            )
+        }
+    };
+    camera.map_err(|e| err(e.to_string()))
 }
 
 /// The entry's `mask` and `threshold` (default: the paper's `red0`).
