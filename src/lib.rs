@@ -115,7 +115,7 @@ pub mod registry;
 pub mod scenes;
 
 /// The README's code, compiled and run as a doctest so it cannot rot.
-#[cfg(doctest)]
+#[cfg(all(doctest, feature = "cli"))]
 #[doc = include_str!("../README.md")]
 struct ReadmeDoctests;
 

@@ -156,7 +156,7 @@ where
                 scene,
                 score,
                 targets,
-            } => boxed(graph, generator, &shapes, scene, score, Some(targets)),
+            } => boxed(graph, generator, &shapes, *scene, score, Some(targets)),
             SceneSetup::Image { scene, score } => {
                 boxed(graph, generator, &shapes, scene, score, None)
             }

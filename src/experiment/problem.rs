@@ -23,7 +23,7 @@ use crate::score::{
 pub(crate) enum SceneSetup {
     /// A voxel scene; `targets` are the target meshes written as `target.obj`.
     Volume {
-        scene: VolumeScene,
+        scene: Box<VolumeScene>,
         score: VolumeScore,
         targets: ShapeMeshes,
     },

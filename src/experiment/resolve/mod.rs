@@ -207,7 +207,7 @@ fn problem(
             let score = weights.volume();
             (
                 SceneSetup::Volume {
-                    scene,
+                    scene: Box::new(scene),
                     score,
                     targets,
                 },
