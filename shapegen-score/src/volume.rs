@@ -57,7 +57,8 @@ pub struct VolumeScene {
     /// Whether each cell is inside some target.
     target: Vec<bool>,
     target_cells: u64,
-    /// Per target (only with two or more): whether each cell is inside it.
+    /// Per group of targets (only with two or more groups): whether each
+    /// cell is inside one of the group's targets.
     members: Vec<Vec<bool>>,
     /// Per target: the cells inside it.
     cells_of: Vec<u64>,
@@ -70,18 +71,49 @@ pub struct VolumeScene {
 }
 
 impl VolumeScene {
-    /// Voxelizes `targets` over `grid` and combines them.
+    /// Voxelizes `targets` over `grid` and combines them; each target is
+    /// reported on its own by [`quality`](Self::quality).
     pub fn new(grid: Grid, targets: &[VolumeTarget]) -> Result<Self, ScoreError> {
+        let singles: Vec<_> = (0..targets.len()).map(|i| i..i + 1).collect();
+        Self::new_grouped(grid, targets, &singles)
+    }
+
+    /// [`new`](Self::new), with [`quality`](Self::quality) reported per
+    /// group of targets (the union of each group's cells): e.g. the parts of
+    /// one object given as several meshes. Every target must be in exactly
+    /// one group, in order.
+    pub fn new_grouped(
+        grid: Grid,
+        targets: &[VolumeTarget],
+        groups: &[std::ops::Range<usize>],
+    ) -> Result<Self, ScoreError> {
+        let tiles = groups.first().is_none_or(|g| g.start == 0)
+            && groups
+                .windows(2)
+                .all(|w| w[0].end == w[1].start && w[0].start < w[0].end)
+            && groups
+                .last()
+                .is_none_or(|g| g.end == targets.len() && g.start < g.end);
+        if !tiles || (groups.is_empty() && !targets.is_empty()) {
+            return Err(ScoreError::Target(format!(
+                "the groups {groups:?} do not split the {} targets in order",
+                targets.len()
+            )));
+        }
         let n = grid.len();
         let mut weight = vec![0.0f64; n];
         let mut target = vec![false; n];
         let mut inside = vec![false; n];
         let mut warnings = Vec::new();
         let mut vox = Voxelizer::new();
-        let mut members = Vec::new();
+        let mut members: Vec<Vec<bool>> = if groups.len() > 1 {
+            vec![vec![false; n]; groups.len()]
+        } else {
+            Vec::new()
+        };
         let mut cells_of = Vec::new();
         let mut empty: Vec<Option<String>> = Vec::new();
-        for t in targets {
+        for (k, t) in targets.iter().enumerate() {
             if !t.fill.is_finite() || !t.outside.is_finite() {
                 return Err(ScoreError::Target(format!(
                     "target `{}` has a non-finite weight",
@@ -116,8 +148,10 @@ impl VolumeScene {
                 *w += if ins { t.fill } else { t.outside };
                 *tg |= ins;
             }
-            if targets.len() > 1 {
-                members.push(inside.clone());
+            if let Some(g) = groups.iter().position(|g| g.contains(&k))
+                && let Some(member) = members.get_mut(g)
+            {
+                member.iter_mut().zip(&inside).for_each(|(m, &i)| *m |= i);
             }
         }
         let target_cells = target.iter().filter(|&&t| t).count() as u64;
@@ -193,9 +227,10 @@ impl VolumeScene {
         self.empty[i].as_deref()
     }
 
-    /// Per target (in the order given to [`new`](Self::new)): how the model
-    /// in `scratch` (right after it was counted) covers its cells. Model
-    /// cells outside the grid count as model cells outside every target.
+    /// Per target (in the order given to [`new`](Self::new)), or per group
+    /// ([`new_grouped`](Self::new_grouped)): how the model in `scratch`
+    /// (right after it was counted) covers its cells. Model cells outside
+    /// the grid count as model cells outside every target.
     #[must_use]
     pub fn quality(&self, scratch: &VolumeScratch) -> Vec<crate::Quality> {
         let hits = scratch.hits();

@@ -244,3 +244,53 @@ fn non_finite_weights_and_bad_meshes_are_errors() {
             .contains("no triangles")
     );
 }
+
+#[test]
+fn quality_is_reported_per_target_or_per_group() {
+    use shapegen_score::Quality;
+    // A 10 × 10 × 10 grid of unit cells over [0, 10]³ and two box targets:
+    // A = [0, 4] × [0, 10] × [0, 10] (400 cells), B = [2, 6] × ... (400,
+    // 200 of them in A as well).
+    let grid = Grid::new(Vec3::ZERO, Vec3::splat(10.0), UVec3::splat(10)).unwrap();
+    let boxed = |x0: f32, x1: f32| {
+        let transform = Affine3A::from_scale_rotation_translation(
+            Vec3::new(x1 - x0, 10.0, 10.0),
+            Quat::IDENTITY,
+            Vec3::new(0.5 * (x0 + x1), 5.0, 5.0),
+        );
+        VolumeTarget {
+            name: format!("box {x0}..{x1}"),
+            mesh: Mesh::unit_cube().transformed(&transform),
+            fill: 1.0,
+            outside: 0.0,
+            inside: shapegen_score::Inside::Parity,
+        }
+    };
+    let targets = [boxed(0.0, 4.0), boxed(2.0, 6.0)];
+    // The model: x ∈ [3, 8] (500 cells; 100 in A, 300 in B, 300 in A ∪ B).
+    let solid = Solid::new("cube", &Mesh::unit_cube()).unwrap();
+    let model = Affine3A::from_scale_rotation_translation(
+        Vec3::new(5.0, 10.0, 10.0),
+        Quat::IDENTITY,
+        Vec3::new(5.5, 5.0, 5.0),
+    );
+    let measure = |scene: &VolumeScene| {
+        let mut scratch = VolumeScratch::new(scene);
+        scratch.begin();
+        scratch.add(scene, &solid, &model);
+        scene.quality(&scratch)
+    };
+    let each = VolumeScene::new(grid.clone(), &targets).unwrap();
+    assert_eq!(
+        measure(&each),
+        [
+            Quality::from_counts(100, 500, 400),
+            Quality::from_counts(300, 500, 400)
+        ]
+    );
+    let one = VolumeScene::new_grouped(grid.clone(), &targets, &[0..2]).unwrap();
+    assert_eq!(measure(&one), [Quality::from_counts(300, 500, 600)]);
+    // Groups must split the targets in order.
+    assert!(VolumeScene::new_grouped(grid.clone(), &targets, &[0..1]).is_err());
+    assert!(VolumeScene::new_grouped(grid, &targets, &[1..2, 0..1]).is_err());
+}

@@ -410,7 +410,7 @@ impl Experiment {
         self.problem.evaluate(chromosome)
     }
 
-    /// Per target (in the file's order; the built-in ship is one): IoU,
+    /// Per target of the file (in its order; the built-in ship is one): IoU,
     /// precision and recall of the model of `chromosome` against it. Unlike
     /// the fitness these do not saturate near a perfect fit.
     #[must_use]

@@ -41,64 +41,51 @@ pub trait Generator: Sync {
     }
 }
 
-/// A generator shared by reference is the same generator (e.g. one
-/// [`Interpreter`](super::Interpreter) both scored and written out).
-impl<G: Generator + ?Sized> Generator for &G {
-    type State = G::State;
+/// Implements [`Generator`] for a pointer type by delegating to its target.
+macro_rules! delegate_generator {
+    ($(#[$doc:meta])* $ty:ty, $($bound:tt)+) => {
+        $(#[$doc])*
+        impl<G: $($bound)+> Generator for $ty {
+            type State = G::State;
 
-    #[inline]
-    fn graph(&self) -> &Graph {
-        (**self).graph()
-    }
+            #[inline]
+            fn graph(&self) -> &Graph {
+                (**self).graph()
+            }
 
-    #[inline]
-    fn shapes(&self) -> &[std::borrow::Cow<'static, str>] {
-        (**self).shapes()
-    }
+            #[inline]
+            fn shapes(&self) -> &[std::borrow::Cow<'static, str>] {
+                (**self).shapes()
+            }
 
-    #[inline]
-    fn axiom(&self) -> Self::State {
-        (**self).axiom()
-    }
+            #[inline]
+            fn axiom(&self) -> Self::State {
+                (**self).axiom()
+            }
 
-    #[inline]
-    fn express_with<S: ModelSink>(
-        &self,
-        chromosome: &Chromosome,
-        sink: &mut S,
-        pending: &mut Pending<Self::State>,
-    ) {
-        (**self).express_with(chromosome, sink, pending);
-    }
+            #[inline]
+            fn express_with<S: ModelSink>(
+                &self,
+                chromosome: &Chromosome,
+                sink: &mut S,
+                pending: &mut Pending<Self::State>,
+            ) {
+                (**self).express_with(chromosome, sink, pending);
+            }
+        }
+    };
 }
 
-/// A generator shared between owners (e.g. a registry and the experiments
-/// it builds) is the same generator.
-impl<G: Generator + Send + ?Sized> Generator for std::sync::Arc<G> {
-    type State = G::State;
+delegate_generator!(
+    /// A generator shared by reference is the same generator (e.g. one
+    /// [`Interpreter`](super::Interpreter) both scored and written out).
+    &G,
+    Generator + ?Sized
+);
 
-    #[inline]
-    fn graph(&self) -> &Graph {
-        (**self).graph()
-    }
-
-    #[inline]
-    fn shapes(&self) -> &[std::borrow::Cow<'static, str>] {
-        (**self).shapes()
-    }
-
-    #[inline]
-    fn axiom(&self) -> Self::State {
-        (**self).axiom()
-    }
-
-    #[inline]
-    fn express_with<S: ModelSink>(
-        &self,
-        chromosome: &Chromosome,
-        sink: &mut S,
-        pending: &mut Pending<Self::State>,
-    ) {
-        (**self).express_with(chromosome, sink, pending);
-    }
-}
+delegate_generator!(
+    /// A generator shared between owners (e.g. a registry and the
+    /// experiments it builds) is the same generator.
+    std::sync::Arc<G>,
+    Generator + Send + ?Sized
+);

@@ -37,7 +37,7 @@ pub(super) fn from_file(
         targets.extend(target(ctx, &format!("volume.targets[{i}]"), t, &grid)?);
         entries.push(start..targets.len());
     }
-    let scene = VolumeScene::new(grid, &targets)
+    let scene = VolumeScene::new_grouped(grid, &targets, &entries)
         .map_err(|e| match e {
             ScoreError::EmptyTarget { target, reason } => {
                 let i = entries
