@@ -280,7 +280,7 @@ fn quality_is_reported_per_target_or_per_group() {
         scratch.add(scene, &solid, &model);
         scene.quality(&scratch)
     };
-    let each = VolumeScene::new(grid.clone(), &targets).unwrap();
+    let each = VolumeScene::new(grid, &targets).unwrap();
     assert_eq!(
         measure(&each),
         [
@@ -288,9 +288,12 @@ fn quality_is_reported_per_target_or_per_group() {
             Quality::from_counts(300, 500, 400)
         ]
     );
-    let one = VolumeScene::new_grouped(grid.clone(), &targets, &[0..2]).unwrap();
+    let one =
+        VolumeScene::new_grouped(grid, &targets, &[std::ops::Range { start: 0, end: 2 }]).unwrap();
     assert_eq!(measure(&one), [Quality::from_counts(300, 500, 600)]);
     // Groups must split the targets in order.
-    assert!(VolumeScene::new_grouped(grid.clone(), &targets, &[0..1]).is_err());
+    assert!(
+        VolumeScene::new_grouped(grid, &targets, &[std::ops::Range { start: 0, end: 1 }]).is_err()
+    );
     assert!(VolumeScene::new_grouped(grid, &targets, &[1..2, 0..1]).is_err());
 }
