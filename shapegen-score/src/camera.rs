@@ -56,6 +56,10 @@ pub struct Camera {
 }
 
 impl Camera {
+    /// The largest image side, in pixels (scratch memory grows with the
+    /// image: a 16384² target takes about 1 GB per worker thread).
+    pub const MAX_SIDE: u32 = 16384;
+
     /// The paper's orbit camera (reference code): direction
     /// `d = (cos θ cos φ, sin θ, cos θ sin φ)`, eye `lookat + r·d`, forward `−d`,
     /// up `(−sin θ cos φ, cos θ, −sin θ sin φ)`, right `up × forward`.
@@ -176,6 +180,14 @@ impl Camera {
         }
         if self.width == 0 || self.height == 0 {
             return bad("the image has no pixels".into());
+        }
+        if self.width > Self::MAX_SIDE || self.height > Self::MAX_SIDE {
+            return bad(format!(
+                "{}×{} pixels: at most {} on a side",
+                self.width,
+                self.height,
+                Self::MAX_SIDE
+            ));
         }
         if ![self.eye, self.right, self.up, self.forward]
             .iter()

@@ -17,6 +17,10 @@ pub struct Grid {
 }
 
 impl Grid {
+    /// The most cells a grid may have (2^27 = 512³): about 0.8 GB for a
+    /// scene with its weights, plus 134 MB per worker thread's scratch.
+    pub const MAX_CELLS: u64 = 1 << 27;
+
     /// A grid over `[min, max]` with `dims` cells per axis (anisotropic cells allowed).
     pub fn new(min: Vec3, max: Vec3, dims: UVec3) -> Result<Self, ScoreError> {
         let (min, max) = (min.as_dvec3(), max.as_dvec3());
@@ -25,9 +29,18 @@ impl Grid {
                 "bounds {min} .. {max} are empty or not finite"
             )));
         }
-        if dims.cmpeq(UVec3::ZERO).any() || dims.as_u64vec3().element_product() > 1 << 31 {
+        if dims.cmpeq(UVec3::ZERO).any() || dims.as_u64vec3().element_product() > Self::MAX_CELLS {
             return Err(ScoreError::Grid(format!(
-                "{dims} cells: each axis needs at least one, and at most 2^31 in all"
+                "{} × {} × {} cells: each axis needs at least one, and at most 2^27 (512³, 134 million) in all; a scene keeps about 6 bytes a cell, and one scratch per worker thread 1 byte",
+                dims.x, dims.y, dims.z
+            )));
+        }
+        let cell = (max - min) / dims.as_dvec3();
+        if !(cell.cmpgt(DVec3::splat(0.0)).all() && cell.is_finite())
+            || (max - min).max_element() / cell.min_element() > 1e12
+        {
+            return Err(ScoreError::Grid(format!(
+                "bounds {min} .. {max} give cells too small to tell apart"
             )));
         }
         Ok(Self {

@@ -9,6 +9,10 @@ use crate::camera::Camera;
 use crate::error::ScoreError;
 use crate::raster::{Layers, RasterShape, Rasterizer, View};
 
+/// The most memory decoding one target image may take (a 16-bit RGBA
+/// image of 8192 × 4096 pixels).
+pub const MAX_DECODE_BYTES: u64 = 512 << 20;
+
 /// Which pixels of a PNG are target. Every rule reads transparency: the
 /// colour rules see each pixel composited over white, so a transparent
 /// pixel is never target by its colour alone.
@@ -143,18 +147,29 @@ impl ImageTarget {
             path: path.to_path_buf(),
             reason,
         };
-        let img = image::open(path)
-            .map_err(|e| bad(e.to_string()))?
-            .to_rgba8();
-        if (img.width(), img.height()) != (camera.width, camera.height) {
+        // The size comes from the header, before anything is decoded (a
+        // small file may claim a huge image).
+        let open = || {
+            image::ImageReader::open(path)
+                .and_then(image::ImageReader::with_guessed_format)
+                .map_err(|e| bad(e.to_string()))
+        };
+        let mut header = open()?;
+        header.no_limits(); // only the header is read
+        let (w, h) = header.into_dimensions().map_err(|e| bad(e.to_string()))?;
+        if (w, h) != (camera.width, camera.height) {
             return Err(bad(format!(
-                "the image is {}×{} pixels but the scene renders {}×{} (its width × height)",
-                img.width(),
-                img.height(),
-                camera.width,
-                camera.height
+                "the image is {w}×{h} pixels but the scene renders {}×{} (its width × height)",
+                camera.width, camera.height
             )));
         }
+        let mut reader = open()?;
+        let mut limits = image::Limits::default();
+        limits.max_image_width = Some(camera.width);
+        limits.max_image_height = Some(camera.height);
+        limits.max_alloc = Some(MAX_DECODE_BYTES);
+        reader.limits(limits);
+        let img = reader.decode().map_err(|e| bad(e.to_string()))?.to_rgba8();
         let selected: Vec<bool> = img.pixels().map(|p| mask.selects(p.0)).collect();
         let count = selected.iter().filter(|&&s| s).count();
         if count == 0 || count == selected.len() {

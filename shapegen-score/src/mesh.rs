@@ -7,6 +7,31 @@ use glam::Vec3;
 
 use crate::error::ScoreError;
 
+/// What the OBJ reader would drop silently: NUL bytes (not a text file)
+/// and faces with fewer than three vertices, each reported with its line.
+fn check_obj_lines(bytes: &[u8]) -> Result<(), String> {
+    for (k, line) in bytes.split(|&b| b == b'\n').enumerate() {
+        if line.contains(&0) {
+            return Err(format!(
+                "line {}: a NUL byte (this is not a text OBJ file)",
+                k + 1
+            ));
+        }
+        let text = String::from_utf8_lossy(line);
+        let mut words = text.split_whitespace();
+        if words.next() == Some("f") {
+            let corners = words.take_while(|w| !w.starts_with('#')).count();
+            if corners < 3 {
+                return Err(format!(
+                    "line {}: a face with {corners} vertices (a face needs at least 3)",
+                    k + 1
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Where a mesh (e.g. a target in its own units) goes in the world: scaled,
 /// then rotated about x, then y, then z (degrees, right-handed:
 /// counter-clockwise seen from the axis's positive end), then translated;
@@ -305,14 +330,21 @@ impl Mesh {
             path: path.to_path_buf(),
             reason,
         };
+        let mut bytes = Vec::new();
+        reader
+            .read_to_end(&mut bytes)
+            .map_err(|e| bad(e.to_string()))?;
+        check_obj_lines(&bytes).map_err(bad)?;
         let options = tobj::LoadOptions {
             single_index: true,
             triangulate: true,
             ..Default::default()
         };
         let (models, _materials) =
-            tobj::load_obj_buf(reader, &options, |_| Err(tobj::LoadError::OpenFileFailed))
-                .map_err(|e| bad(e.to_string()))?;
+            tobj::load_obj_buf(&mut std::io::Cursor::new(bytes), &options, |_| {
+                Err(tobj::LoadError::OpenFileFailed)
+            })
+            .map_err(|e| bad(e.to_string()))?;
         let mut mesh = Self::default();
         for m in &models {
             let base = mesh.positions.len() as u32;

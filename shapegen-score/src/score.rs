@@ -162,7 +162,7 @@ pub trait Scene: Sync {
     /// What one model covers.
     type Counts: Copy;
     /// The score form and its weights.
-    type Score: Copy + Sync;
+    type Score: Copy + Sync + std::fmt::Debug;
 
     /// Prepares `mesh` (named `name` in errors).
     fn prepare(&self, name: &str, mesh: &Mesh) -> Result<Self::Shape, ScoreError>;
@@ -360,6 +360,12 @@ impl<G: Generator, S: Scene> ModelFitness<G, S> {
     #[must_use]
     pub fn meshes(&self) -> &ShapeMeshes {
         &self.meshes
+    }
+
+    /// The score form and its weights.
+    #[must_use]
+    pub fn score(&self) -> &S::Score {
+        &self.score
     }
 
     /// The limits of the length term.

@@ -212,6 +212,12 @@ impl VolumeScene {
         &self.warnings
     }
 
+    /// `C(v)` per cell, indexed like [`Grid::index`].
+    #[must_use]
+    pub fn weights(&self) -> &[f32] {
+        &self.weight
+    }
+
     /// Cells inside target `i` (in the order given to [`new`](Self::new)).
     #[must_use]
     pub fn cells_of(&self, i: usize) -> u64 {

@@ -8,8 +8,9 @@ use std::ops::ControlFlow;
 use serde::Serialize;
 
 use super::args::CompareArgs;
+use super::guard::{self, interrupted};
 use super::plot::{self, Series};
-use super::{Cli, CliError, interrupted, seconds, thread_pool};
+use super::{Cli, CliError, seconds, thread_pool};
 use crate::experiment::{Experiment, Method};
 use crate::genome::Chromosome;
 use crate::optimize::{Budget, GenerationStats, RunResult};
@@ -107,6 +108,20 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
     if args.runs == 0 || args.methods.is_empty() {
         return Err(CliError::msg("give at least one method and one run"));
     }
+    guard::check_output_dir(&args.out)?;
+    let mut outputs: Vec<std::path::PathBuf> =
+        ["curves.csv", "runs.csv", "summary.json", "curves.png"]
+            .iter()
+            .map(|n| args.out.join(n))
+            .collect();
+    for m in &args.methods {
+        outputs.extend(
+            output::run_files(&experiment)
+                .iter()
+                .map(|n| args.out.join(m.name()).join(n)),
+        );
+    }
+    guard::refuse_overwriting_inputs(&outputs, experiment.inputs())?;
     for w in experiment.warnings() {
         eprintln!("shapegen: warning: {w}");
     }

@@ -19,16 +19,16 @@
 
 pub mod args;
 mod compare;
+mod guard;
 mod plot;
 mod progress;
 mod render;
 mod run;
+mod saved;
 
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::Once;
-use std::sync::atomic::{AtomicBool, Ordering};
 
 use clap::Parser;
 
@@ -36,9 +36,10 @@ use crate::experiment::{BUILTIN, Experiment, ExperimentError, LoadOptions};
 use crate::express::Generator;
 use crate::registry::Registry;
 use args::{Args, Command};
+use guard::catch_interrupts;
 
 pub use progress::Progress;
-pub use run::SavedRun;
+pub use saved::SavedRun;
 
 /// An error for the user.
 #[derive(Debug, thiserror::Error)]
@@ -49,6 +50,10 @@ pub enum CliError {
     /// The command line itself (unknown flag, bad value, `--help`).
     #[error("{0}")]
     Args(#[from] clap::Error),
+    /// The user stopped the run (Ctrl-C, SIGTERM) before its budget; the
+    /// results so far were written. Exit status 130.
+    #[error("interrupted before the budget was spent; the results so far are in {}", .0.display())]
+    Interrupted(PathBuf),
     /// Anything else, as a sentence.
     #[error("{0}")]
     Message(String),
@@ -127,10 +132,15 @@ impl Cli {
 
     /// Runs the command line of this process (`std::env::args_os`): prints
     /// errors with their causes, and returns the exit status (0 success,
-    /// 1 error, 2 a usage mistake; `--help` prints and succeeds).
+    /// 1 error, 2 a usage mistake, 130 a run stopped by Ctrl-C or SIGTERM
+    /// before its budget, its results written; `--help` prints and succeeds).
     pub fn run(self) -> ExitCode {
         match self.run_from(std::env::args_os()) {
             Ok(()) => ExitCode::SUCCESS,
+            Err(e @ CliError::Interrupted(_)) => {
+                eprintln!("shapegen: {e}");
+                ExitCode::from(130)
+            }
             Err(CliError::Args(e)) => {
                 let _ = e.print();
                 ExitCode::from(u8::try_from(e.exit_code()).unwrap_or(2))
@@ -190,37 +200,15 @@ impl Cli {
     }
 }
 
-static INTERRUPTED: AtomicBool = AtomicBool::new(false);
-
-/// Makes Ctrl-C stop the run cleanly after the current generation (the
-/// results so far are written); a second Ctrl-C exits at once. Installed
-/// once per process.
-fn catch_interrupts() {
-    static INSTALL: Once = Once::new();
-    INSTALL.call_once(|| {
-        let installed = ctrlc::set_handler(|| {
-            if INTERRUPTED.swap(true, Ordering::SeqCst) {
-                std::process::exit(130);
-            }
-            eprintln!("\nshapegen: stopping after this generation (Ctrl-C again to quit at once)");
-        });
-        if let Err(e) = installed {
-            eprintln!("shapegen: warning: cannot catch Ctrl-C: {e}");
-        }
-    });
-}
-
-/// Whether Ctrl-C was pressed.
-fn interrupted() -> bool {
-    INTERRUPTED.load(Ordering::SeqCst)
-}
-
-/// A `--seconds` value as a duration (finite and > 0).
+/// A `--seconds` value as a duration (finite, > 0, at most a century).
 fn seconds(s: f64) -> Result<std::time::Duration, CliError> {
-    if s > 0.0 && s.is_finite() {
+    const CENTURY: f64 = 100.0 * 365.25 * 86_400.0;
+    if s > 0.0 && s <= CENTURY {
         Ok(std::time::Duration::from_secs_f64(s))
     } else {
-        Err(CliError::msg(format!("--seconds must be > 0, got {s}")))
+        Err(CliError::msg(format!(
+            "--seconds must be > 0 and at most {CENTURY:.0} (a century), got {s}"
+        )))
     }
 }
 

@@ -2,31 +2,15 @@
 //! the result files.
 
 use std::ops::ControlFlow;
-use std::path::{Path, PathBuf};
-
-use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
 
 use super::args::RunArgs;
+use super::guard::{self, interrupted};
 use super::progress::Progress;
-use super::{Cli, CliError, interrupted, seconds, thread_pool};
-use crate::optimize::{Budget, Checkpoint, GenerationStats, StopReason};
-use crate::output::{self, Row, Summary, write_json};
-
-/// What a checkpoint file holds: the optimizer's checkpoint plus what the
-/// CLI needs to continue the same run and its curve.
-#[derive(Debug, Serialize, Deserialize)]
-pub struct SavedRun {
-    /// The experiment's name.
-    pub experiment: String,
-    /// The method.
-    pub method: String,
-    /// The budget of the run.
-    pub budget: Budget,
-    /// The curve up to the checkpoint.
-    pub curve: Vec<Row>,
-    /// The optimizer's state.
-    pub checkpoint: Checkpoint,
-}
+use super::saved::SavedRun;
+use super::{Cli, CliError, seconds, thread_pool};
+use crate::optimize::{Budget, GenerationStats, StopReason};
+use crate::output::{self, Row, Summary};
 
 /// Runs `shapegen run`.
 pub(super) fn run(cli: &Cli, args: &RunArgs) -> Result<(), CliError> {
@@ -34,9 +18,14 @@ pub(super) fn run(cli: &Cli, args: &RunArgs) -> Result<(), CliError> {
         args.experiment.experiment.as_deref(),
         args.experiment.data.as_deref(),
     )?;
+    if args.generations == Some(0) {
+        return Err(CliError::msg(
+            "--generations must be at least 1 (generation 0 is the initial population)",
+        ));
+    }
     let saved: Option<SavedRun> = match &args.resume {
         None => None,
-        Some(path) => Some(read_saved(path)?),
+        Some(path) => Some(SavedRun::read(path, &experiment)?),
     };
     let method = match (&saved, args.method) {
         (Some(s), Some(m)) if s.method != m.name() => {
@@ -49,15 +38,6 @@ pub(super) fn run(cli: &Cli, args: &RunArgs) -> Result<(), CliError> {
         (None, Some(m)) => m,
         (None, None) => experiment.default_method(),
     };
-    if let Some(s) = &saved
-        && s.experiment != experiment.name()
-    {
-        return Err(CliError::msg(format!(
-            "the checkpoint belongs to experiment `{}`, not `{}`",
-            s.experiment,
-            experiment.name()
-        )));
-    }
     let budget = match (&saved, args.seconds, args.generations) {
         (_, Some(s), g) => {
             let b = Budget::wall_time(seconds(s)?);
@@ -85,6 +65,7 @@ pub(super) fn run(cli: &Cli, args: &RunArgs) -> Result<(), CliError> {
     };
     let pool = thread_pool(args.threads)?;
     let threads = pool.current_num_threads();
+    check_outputs(&experiment, args)?;
     for w in experiment.warnings() {
         eprintln!("shapegen: warning: {w}");
     }
@@ -116,11 +97,16 @@ pub(super) fn run(cli: &Cli, args: &RunArgs) -> Result<(), CliError> {
                 experiment: experiment.name().to_string(),
                 method: method.name().to_string(),
                 budget,
+                fingerprint: experiment.fingerprint(),
                 curve: curve.clone(),
                 checkpoint: s.checkpoint(),
+                integrity: String::new(),
             };
-            if let Err(e) = write_json(path, &saved) {
-                checkpoint_error = Some(CliError::from(e));
+            if let Err(e) = saved.write(path) {
+                // The last good checkpoint is intact (writes are atomic):
+                // stop here and still write the results.
+                eprintln!("\nshapegen: error: {e}; stopping and writing the results so far");
+                checkpoint_error = Some((s.generation, e));
                 return ControlFlow::Break(());
             }
         }
@@ -140,10 +126,8 @@ pub(super) fn run(cli: &Cli, args: &RunArgs) -> Result<(), CliError> {
         )
     })?;
     progress.finish();
-    if let Some(e) = checkpoint_error {
-        return Err(e);
-    }
-    if result.stop == StopReason::Observer {
+    let stopped_by_user = result.stop == StopReason::Observer && checkpoint_error.is_none();
+    if stopped_by_user {
         eprintln!("shapegen: interrupted; writing the results so far");
     }
     let summary = Summary {
@@ -151,7 +135,31 @@ pub(super) fn run(cli: &Cli, args: &RunArgs) -> Result<(), CliError> {
         resumed: saved.is_some(),
         ..Summary::of(&experiment, method, seed, &result)
     };
-    let written = output::write_run(&experiment, &result, &curve, &summary, &args.out)?;
+    // A model below the graph's minimum length (SMC stopped before any
+    // particle was complete) or without a score is no result to write.
+    let complete = result.best_fitness.is_finite()
+        && crate::genome::Chromosome::from_data(
+            experiment.graph(),
+            &result.best.to_data(experiment.graph()),
+        )
+        .is_ok();
+    if !complete {
+        guard::writing(|| -> Result<(), CliError> {
+            output::write_curve(&args.out.join("curve.csv"), &curve)?;
+            output::write_json(&args.out.join("summary.json"), &summary)?;
+            Ok(())
+        })?;
+        return Err(CliError::msg(format!(
+            "no complete model within the budget ({} generations, {} evaluations): {method} needs more generations (SMC and SOSMC build models gene by gene); wrote {} and {} only",
+            result.generations,
+            result.evaluations,
+            args.out.join("curve.csv").display(),
+            args.out.join("summary.json").display()
+        )));
+    }
+    // A second Ctrl-C waits until the result files are complete.
+    let written =
+        guard::writing(|| output::write_run(&experiment, &result, &curve, &summary, &args.out))?;
     println!(
         "best fitness {:.4}{}, {} ({} genes) after {} generations, {} evaluations, {:.1} s",
         result.best_fitness,
@@ -166,7 +174,42 @@ pub(super) fn run(cli: &Cli, args: &RunArgs) -> Result<(), CliError> {
         result.elapsed.as_secs_f64()
     );
     println!("wrote {}", list(&written));
+    if let Some((generation, e)) = checkpoint_error {
+        return Err(CliError::msg(format!(
+            "the checkpoint could not be written at generation {generation} ({e}); the run stopped there and its results are in {}; the last checkpoint written before, if any, is intact",
+            args.out.display()
+        )));
+    }
+    if stopped_by_user {
+        return Err(CliError::Interrupted(args.out.clone()));
+    }
     Ok(())
+}
+
+/// Before any work: the output folder takes files, the checkpoint's folder
+/// too, and no output is an input of the run (a checkpoint may replace the
+/// one resumed from).
+fn check_outputs(
+    experiment: &crate::experiment::Experiment,
+    args: &RunArgs,
+) -> Result<(), CliError> {
+    guard::check_output_dir(&args.out)?;
+    let mut inputs = experiment.inputs().to_vec();
+    if let Some(cp) = &args.checkpoint {
+        guard::check_output_file(cp)?;
+        guard::refuse_overwriting_inputs(std::slice::from_ref(cp), &inputs)?;
+    }
+    inputs.extend(args.resume.iter().cloned());
+    let mut outputs: Vec<PathBuf> = output::run_files(experiment)
+        .iter()
+        .map(|n| args.out.join(n))
+        .collect();
+    if let Some(cp) = &args.checkpoint {
+        // The result files must not replace the checkpoint either.
+        guard::refuse_overwriting_inputs(&outputs, std::slice::from_ref(cp))?;
+    }
+    outputs.dedup();
+    guard::refuse_overwriting_inputs(&outputs, &inputs)
 }
 
 /// IoU, precision and recall per target, as one phrase.
@@ -188,17 +231,6 @@ fn quality_line(summary: &Summary) -> String {
         })
         .collect::<Vec<_>>()
         .join("; ")
-}
-
-fn read_saved(path: &Path) -> Result<SavedRun, CliError> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| CliError::msg(format!("cannot read checkpoint {}: {e}", path.display())))?;
-    serde_json::from_str(&text).map_err(|e| {
-        CliError::msg(format!(
-            "{}: not a shapegen checkpoint: {e}",
-            path.display()
-        ))
-    })
 }
 
 fn list(paths: &[PathBuf]) -> String {

@@ -19,6 +19,14 @@ pub enum ExperimentError {
         /// The cause.
         source: std::io::Error,
     },
+    /// A path that is not a regular file (a directory, a pipe, a device).
+    #[error("cannot read the experiment: {why}")]
+    NotAFile {
+        /// The path.
+        path: PathBuf,
+        /// What it is instead.
+        why: String,
+    },
     /// A key of the file is missing, unknown or has an unusable value.
     #[error("{file}:{line}:{column}: {}{message}", key_prefix(key))]
     Invalid {

@@ -6,6 +6,24 @@ use std::collections::BTreeMap;
 use serde::Deserialize;
 use toml::Spanned;
 
+/// Three numbers `[x, y, z]`: exactly three (serde's arrays would drop a
+/// fourth silently).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Xyz<T>(pub [T; 3]);
+
+impl<'de, T: Deserialize<'de> + Copy> Deserialize<'de> for Xyz<T> {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = Vec::<T>::deserialize(d)?;
+        match <[T; 3]>::try_from(v.as_slice()) {
+            Ok(a) => Ok(Self(a)),
+            Err(_) => Err(serde::de::Error::custom(format!(
+                "expected 3 numbers [x, y, z], got {}",
+                v.len()
+            ))),
+        }
+    }
+}
+
 /// A whole experiment file.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -82,9 +100,9 @@ pub(super) enum ScoreForm {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct VolumeFile {
-    pub min: [f32; 3],
-    pub max: [f32; 3],
-    pub resolution: [u32; 3],
+    pub min: Xyz<f32>,
+    pub max: Xyz<f32>,
+    pub resolution: Xyz<u32>,
     pub outside_count: Option<OutsideCountFile>,
     pub targets: Vec<Spanned<VolumeTargetFile>>,
 }
@@ -109,8 +127,8 @@ pub(super) struct VolumeTargetFile {
     pub outside: Option<f64>,
     pub inside: Option<InsideFile>,
     pub scale: Option<Spanned<ScaleFile>>,
-    pub rotate: Option<Spanned<[f32; 3]>>,
-    pub translate: Option<Spanned<[f32; 3]>>,
+    pub rotate: Option<Spanned<Xyz<f32>>>,
+    pub translate: Option<Spanned<Xyz<f32>>>,
     pub fit: Option<Spanned<FitFile>>,
 }
 
@@ -119,7 +137,7 @@ pub(super) struct VolumeTargetFile {
 #[serde(untagged)]
 pub(super) enum ScaleFile {
     Uniform(f32),
-    PerAxis([f32; 3]),
+    PerAxis(Xyz<f32>),
 }
 
 /// `fit` of a target: `"grid"` or a box.
@@ -127,7 +145,7 @@ pub(super) enum ScaleFile {
 #[serde(untagged)]
 pub(super) enum FitFile {
     Named(String),
-    Box { min: [f32; 3], max: [f32; 3] },
+    Box { min: Xyz<f32>, max: Xyz<f32> },
 }
 
 /// `volume.targets[i].inside`: how a target mesh's inside is decided.
@@ -180,10 +198,10 @@ pub(super) struct CameraFile {
     pub phi: Option<f64>,
     pub theta: Option<f64>,
     pub r: Option<f64>,
-    pub look_at: Option<[f64; 3]>,
-    pub eye: Option<[f64; 3]>,
-    pub target: Option<[f64; 3]>,
-    pub up: Option<[f64; 3]>,
+    pub look_at: Option<Xyz<f64>>,
+    pub eye: Option<Xyz<f64>>,
+    pub target: Option<Xyz<f64>>,
+    pub up: Option<Xyz<f64>>,
     pub fov: Option<f64>,
     pub near: Option<f64>,
     pub far: Option<f64>,

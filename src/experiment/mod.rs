@@ -216,6 +216,8 @@ impl LoadOptions {
 /// A loaded experiment: its problem (generator + scene + score) is built and
 /// its targets are loaded.
 pub struct Experiment {
+    /// The files the experiment reads (the experiment file first, if any).
+    inputs: Vec<PathBuf>,
     name: String,
     description: String,
     generator: String,
@@ -253,6 +255,10 @@ impl Experiment {
         registry: &Registry,
         options: &LoadOptions,
     ) -> Result<Self, ExperimentError> {
+        check_regular_file(path).map_err(|why| ExperimentError::NotAFile {
+            path: path.to_path_buf(),
+            why,
+        })?;
         let text = std::fs::read_to_string(path).map_err(|source| ExperimentError::Read {
             path: path.to_path_buf(),
             source,
@@ -261,14 +267,16 @@ impl Experiment {
         let stem = path
             .file_stem()
             .map_or_else(|| "experiment".into(), |s| s.to_string_lossy().into_owned());
-        Self::from_toml_with(
+        let mut experiment = Self::from_toml_with(
             &text,
             &path.display().to_string(),
             base,
             &stem,
             registry,
             options,
-        )
+        )?;
+        experiment.inputs.insert(0, path.to_path_buf());
+        Ok(experiment)
     }
 
     /// Parses an experiment from TOML `text` naming a built-in generator;
@@ -364,6 +372,33 @@ impl Experiment {
         self.optimum
     }
 
+    /// Every file the experiment reads: the experiment file (when loaded
+    /// from one), target meshes and images, shape meshes. A run must not
+    /// write over any of them.
+    #[must_use]
+    pub fn inputs(&self) -> &[PathBuf] {
+        &self.inputs
+    }
+
+    /// The names of the files [`write_model`](Self::write_model) writes.
+    #[must_use]
+    pub fn model_files(&self) -> Vec<String> {
+        self.problem.model_files()
+    }
+
+    /// What the scores depend on, part by part (generator and limits,
+    /// shapes, scene, score): a name and a 16-hex-digit fingerprint each. A
+    /// checkpoint stores them so that a resume against a changed target,
+    /// grid, camera, weight, mesh or limit is refused.
+    #[must_use]
+    pub fn fingerprint(&self) -> BTreeMap<String, String> {
+        self.problem
+            .fingerprint()
+            .into_iter()
+            .map(|(k, v)| (k.to_string(), format!("{v:016x}")))
+            .collect()
+    }
+
     /// Problems worth telling the user (e.g. a target that is not watertight).
     #[must_use]
     pub fn warnings(&self) -> &[String] {
@@ -445,6 +480,34 @@ impl Experiment {
         self.problem.write_model(chromosome, dir)
     }
 }
+
+/// Whether `path` is a regular file that can be read: a directory, a FIFO
+/// or a device is refused with words that say so (reading one would fail
+/// or block forever).
+pub fn check_regular_file(path: &Path) -> Result<(), String> {
+    match std::fs::metadata(path) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            Err(format!("no such file: {}", path.display()))
+        }
+        Err(e) => Err(format!("cannot read {}: {e}", path.display())),
+        Ok(m) if m.is_dir() => Err(format!("{} is a directory, not a file", path.display())),
+        Ok(m) if !m.is_file() => Err(format!(
+            "{} is not a regular file (a pipe, socket or device)",
+            path.display()
+        )),
+        Ok(_) => Ok(()),
+    }
+}
+
+/// FNV-1a over `bytes`, continuing from `hash` (start with [`FNV_START`]).
+pub(crate) fn fnv(hash: u64, bytes: &[u8]) -> u64 {
+    bytes.iter().fold(hash, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// The FNV-1a offset basis.
+pub(crate) const FNV_START: u64 = 0xcbf2_9ce4_8422_2325;
 
 #[cfg(test)]
 mod tests;

@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{ExperimentError, MethodParams};
+use super::{ExperimentError, FNV_START, MethodParams, fnv};
 use crate::express::{Generator, Instance, ShapeId};
 use crate::genome::Chromosome;
 use crate::glam::Affine3A;
@@ -59,6 +59,10 @@ pub(crate) trait Problem: Send + Sync {
     ) -> Result<Vec<PathBuf>, ExperimentError>;
     /// One line about the scene.
     fn describe(&self) -> String;
+    /// The names of the files `write_model` writes.
+    fn model_files(&self) -> Vec<String>;
+    /// What the scores depend on, part by part.
+    fn fingerprint(&self) -> Vec<(&'static str, u64)>;
 }
 
 /// [`Problem`] for a generator `G` on a scene `S`.
@@ -81,6 +85,10 @@ pub(crate) trait SceneOutputs: Scene {
     fn quality_of(&self, scratch: &Self::Scratch) -> Vec<Quality>;
     /// One line about the scene.
     fn describe(&self) -> String;
+    /// The names of the pictures `write_pictures` writes.
+    fn picture_files(&self) -> Vec<String>;
+    /// A fingerprint of everything in the scene that changes scores.
+    fn fingerprint(&self) -> u64;
 }
 
 impl SceneOutputs for VolumeScene {
@@ -108,6 +116,24 @@ impl SceneOutputs for VolumeScene {
 
     fn quality_of(&self, scratch: &Self::Scratch) -> Vec<Quality> {
         self.quality(scratch)
+    }
+
+    fn picture_files(&self) -> Vec<String> {
+        ["x", "y", "z"].map(|a| format!("slice_{a}.png")).to_vec()
+    }
+
+    fn fingerprint(&self) -> u64 {
+        let mut h = fnv(
+            FNV_START,
+            format!("{:?} {:?}", self.grid(), self.outside_count()).as_bytes(),
+        );
+        for w in self.weights() {
+            h = fnv(h, &w.to_bits().to_le_bytes());
+        }
+        for i in 0..self.grid().len() {
+            h = fnv(h, &[u8::from(self.is_target(i))]);
+        }
+        h
     }
 
     fn describe(&self) -> String {
@@ -143,6 +169,24 @@ impl SceneOutputs for ImageTargets {
 
     fn quality_of(&self, scratch: &Self::Scratch) -> Vec<Quality> {
         self.quality(scratch)
+    }
+
+    fn picture_files(&self) -> Vec<String> {
+        match self.targets().len() {
+            1 => vec!["overlay.png".into()],
+            n => (0..n).map(|i| format!("overlay_{i}.png")).collect(),
+        }
+    }
+
+    fn fingerprint(&self) -> u64 {
+        let mut h = FNV_START;
+        for t in self.targets() {
+            h = fnv(h, format!("{:?}", t.camera).as_bytes());
+            for w in &t.weights {
+                h = fnv(h, &w.to_bits().to_le_bytes());
+            }
+        }
+        h
     }
 
     fn describe(&self) -> String {
@@ -232,5 +276,46 @@ where
 
     fn describe(&self) -> String {
         self.fitness.scene().describe()
+    }
+
+    fn model_files(&self) -> Vec<String> {
+        let mut files = vec!["best.obj".to_string()];
+        if self.target_meshes.is_some() {
+            files.push("target.obj".into());
+        }
+        files.extend(self.fitness.scene().picture_files());
+        files
+    }
+
+    fn fingerprint(&self) -> Vec<(&'static str, u64)> {
+        let meshes = self.fitness.meshes();
+        let mut shapes = FNV_START;
+        for i in 0..meshes.len() {
+            let m = meshes.mesh(i as u16);
+            shapes = fnv(shapes, meshes.name(i as u16).as_bytes());
+            for p in &m.positions {
+                for c in p.to_array() {
+                    shapes = fnv(shapes, &c.to_bits().to_le_bytes());
+                }
+            }
+            for t in &m.triangles {
+                for v in t {
+                    shapes = fnv(shapes, &v.to_le_bytes());
+                }
+            }
+        }
+        let score = format!("{:?} {:?}", self.fitness.score(), self.fitness.limits());
+        vec![
+            (
+                "generator and limits",
+                fnv(FNV_START, format!("{:?}", self.graph.spec()).as_bytes()),
+            ),
+            ("shape meshes", shapes),
+            (
+                "targets, grid and cameras",
+                self.fitness.scene().fingerprint(),
+            ),
+            ("score and weights", fnv(FNV_START, score.as_bytes())),
+        ]
     }
 }

@@ -126,6 +126,14 @@ impl Summary {
     }
 }
 
+/// The names of the files [`write_run`] writes.
+#[must_use]
+pub fn run_files(experiment: &Experiment) -> Vec<String> {
+    let mut files = experiment.model_files();
+    files.extend(["best.json", "curve.csv", "summary.json"].map(String::from));
+    files
+}
+
 /// Writes every result file of a run into `dir` (created if missing):
 /// the model and pictures, `best.json`, `curve.csv` and `summary.json`.
 /// Returns their paths.
@@ -136,6 +144,7 @@ pub fn write_run(
     summary: &Summary,
     dir: &Path,
 ) -> Result<Vec<PathBuf>, ExperimentError> {
+    std::fs::create_dir_all(dir).map_err(|e| ExperimentError::write(dir, e))?;
     let mut written = experiment.write_model(&result.best, dir)?;
     let best = dir.join("best.json");
     write_chromosome(&best, experiment, &result.best)?;

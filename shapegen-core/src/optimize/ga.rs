@@ -242,6 +242,13 @@ impl Optimizer for Ga {
                         "it holds no GA population".into(),
                     ));
                 };
+                if individuals.len() != self.params.population {
+                    return Err(OptimizeError::Checkpoint(format!(
+                        "it holds {} individuals for a population of {}",
+                        individuals.len(),
+                        self.params.population
+                    )));
+                }
                 individuals
                     .iter()
                     .map(|i| i.restore(graph))

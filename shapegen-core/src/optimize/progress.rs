@@ -120,7 +120,8 @@ impl<'o> Progress<'o> {
     }
 
     fn elapsed(&self) -> Duration {
-        self.offset + self.start.elapsed()
+        // Saturating: a checkpoint may claim any time so far.
+        self.offset.saturating_add(self.start.elapsed())
     }
 
     /// Ends a generation: reports it ([`generation_done`](Self::generation_done))

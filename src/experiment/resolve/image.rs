@@ -20,6 +20,7 @@ const DEFAULT_THRESHOLD: f32 = 0.5;
 pub(super) fn from_file(
     ctx: &Ctx<'_>,
     i: &Spanned<ImageFile>,
+    paper: bool,
 ) -> Result<ImageTargets, ExperimentError> {
     let f = i.get_ref();
     let size = (
@@ -28,6 +29,18 @@ pub(super) fn from_file(
     );
     if f.targets.is_empty() {
         return Err(ctx.err("image.targets", i, "give at least one [[image.targets]]"));
+    }
+    if paper
+        && f.targets.iter().all(|t| {
+            let t = t.get_ref();
+            t.png.is_some() && t.target == Some(0.0) && t.background == Some(0.0)
+        })
+    {
+        return Err(ctx.err(
+            "image.targets",
+            i,
+            "every pixel weight (target, background) is 0: every model would score 0",
+        ));
     }
     let targets = f
         .targets
@@ -93,10 +106,10 @@ fn camera(
                     "give either the orbit camera (phi, theta, r, look_at) or eye and target, not both".into(),
                 ));
             }
-            let up = c.up.unwrap_or([0.0, 1.0, 0.0]);
+            let up = c.up.map_or([0.0, 1.0, 0.0], |u| u.0);
             Camera::look_at(
-                DVec3::from_array(eye),
-                DVec3::from_array(target),
+                DVec3::from_array(eye.0),
+                DVec3::from_array(target.0),
                 DVec3::from_array(up),
                 fov,
                 near,
@@ -121,7 +134,7 @@ fn camera(
                 phi,
                 theta,
                 r,
-                DVec3::from_array(look_at),
+                DVec3::from_array(look_at.0),
                 fov,
                 near,
                 far,

@@ -15,6 +15,25 @@ use crate::experiment::{ExperimentError, Method, MethodConfig, MethodParams};
 use crate::ops::{CrossoverConfig, EdgeMatch, InitLength, MutationSplit};
 use crate::optimize::{Budget, DelayedRejection, GaParams, RjmcmcParams, SmcParams};
 
+/// The largest population, particle or chain count (each individual keeps a
+/// chromosome; 10⁶ of them is already gigabytes).
+const MAX_INDIVIDUALS: usize = 1_000_000;
+
+/// Problems of sizes the optimizers' own checks do not cover.
+fn size_problems(count: (&str, usize), init_length: Option<u32>) -> Vec<String> {
+    let mut p = Vec::new();
+    if count.1 > MAX_INDIVIDUALS {
+        p.push(format!(
+            "{} must be at most {MAX_INDIVIDUALS}, got {}",
+            count.0, count.1
+        ));
+    }
+    if init_length == Some(0) {
+        p.push("init_length must be at least 1 (initial lengths are drawn around it)".into());
+    }
+    p
+}
+
 /// SMC and SOSMC particles without a table (the paper's spaceship).
 const PAPER_PARTICLES: usize = 500;
 /// RJMCMC chains and initial length without a table (the paper's spaceship).
@@ -49,10 +68,18 @@ pub(super) fn budget(
     let f = b.get_ref();
     let mut out = Budget::default();
     if let Some(s) = f.seconds {
-        if !(s > 0.0 && s.is_finite()) {
-            return Err(ctx.err(key, b, format!("seconds must be > 0, got {s}")));
+        const CENTURY: f64 = 100.0 * 365.25 * 86_400.0;
+        if !(s > 0.0 && s <= CENTURY) {
+            return Err(ctx.err(
+                key,
+                b,
+                format!("seconds must be > 0 and at most {CENTURY:.0} (a century), got {s}"),
+            ));
         }
         out.wall_time = Some(Duration::from_secs_f64(s));
+    }
+    if f.generations == Some(0) {
+        return Err(ctx.err(key, b, "generations must be at least 1"));
     }
     out.evaluations = f.evaluations;
     out.generations = f.generations;
@@ -108,7 +135,17 @@ fn ga(ctx: &Ctx<'_>, table: Option<&Spanned<GaFile>>) -> Result<MethodConfig, Ex
         elite_dedup: g.elite_dedup.unwrap_or(preset.elite_dedup),
         ..preset
     };
-    let problems = params.problems();
+    let mut problems = params.problems();
+    problems.extend(size_problems(
+        ("population", g.population),
+        Some(g.init_length),
+    ));
+    if params.tournament > params.population {
+        problems.push(format!(
+            "tournament ({}) must not exceed the population ({})",
+            params.tournament, params.population
+        ));
+    }
     config(
         ctx,
         Method::Ga,
@@ -133,7 +170,8 @@ fn smc(
     };
     let s = t.get_ref();
     let params = preset(s.particles);
-    let problems = params.problems();
+    let mut problems = params.problems();
+    problems.extend(size_problems(("particles", s.particles), None));
     config(
         ctx,
         method,
@@ -172,7 +210,8 @@ fn rjmcmc(
             DelayedRejectionFile::ApproxAlter => DelayedRejection::ApproxAlter,
         };
     }
-    let problems = params.problems();
+    let mut problems = params.problems();
+    problems.extend(size_problems(("chains", r.chains), Some(r.init_length)));
     config(
         ctx,
         Method::Rjmcmc,

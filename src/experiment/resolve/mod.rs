@@ -29,6 +29,8 @@ pub(super) struct Ctx<'a> {
     src: Source<'a>,
     base: &'a Path,
     data: Option<PathBuf>,
+    /// Every file the experiment reads, as resolved.
+    inputs: std::cell::RefCell<Vec<PathBuf>>,
 }
 
 impl Ctx<'_> {
@@ -60,9 +62,10 @@ impl Ctx<'_> {
         } else {
             PathBuf::from(raw)
         };
-        if !path.is_file() {
-            return Err(self.err(key, value, format!("no such file: {}", path.display())));
+        if let Err(why) = super::check_regular_file(&path) {
+            return Err(self.err(key, value, why));
         }
+        self.inputs.borrow_mut().push(path.clone());
         Ok(path)
     }
 }
@@ -99,6 +102,7 @@ pub(super) fn experiment(
         src,
         base: input.base,
         data,
+        inputs: std::cell::RefCell::new(Vec::new()),
     };
     let default_method = match &parsed.method {
         None => Method::Ga,
@@ -112,10 +116,19 @@ pub(super) fn experiment(
         .as_ref()
         .map(|b| methods::budget(&ctx, "budget", b))
         .transpose()?;
+    if let Some(o) = parsed.optimum
+        && !o.is_finite()
+    {
+        return Err(ctx
+            .src
+            .error("optimum", 0..0, format!("must be a finite number, got {o}")));
+    }
     let methods = methods::from_file(&ctx, &parsed)?;
     let generator = generator(&ctx, &parsed, registry)?;
     let (problem, warnings) = problem(&ctx, &parsed, generator)?;
+    let inputs = ctx.inputs.take();
     Ok(Experiment {
+        inputs,
         name: parsed
             .name
             .clone()
@@ -203,7 +216,7 @@ fn problem(
     let weights = score::Weights::from_file(ctx, f)?;
     let (scene, warnings) = match (&f.volume, &f.image) {
         (Some(v), None) => {
-            let (scene, targets, warnings) = volume::from_file(ctx, v)?;
+            let (scene, targets, warnings) = volume::from_file(ctx, v, weights.is_paper())?;
             let score = weights.volume();
             (
                 SceneSetup::Volume {
@@ -215,7 +228,7 @@ fn problem(
             )
         }
         (None, Some(i)) => {
-            let scene = image::from_file(ctx, i)?;
+            let scene = image::from_file(ctx, i, weights.is_paper())?;
             let score = weights.image(ctx, f)?;
             (SceneSetup::Image { scene, score }, Vec::new())
         }

@@ -22,25 +22,68 @@ pub(super) struct Weights {
 }
 
 impl Weights {
-    /// The table's weights (finite), with defaults for those left out.
+    /// The table's weights (finite), with defaults for those left out; keys
+    /// the form does not read, and weights that are all 0, are errors.
     pub fn from_file(ctx: &Ctx<'_>, f: &ExperimentFile) -> Result<Self, ExperimentError> {
         let s = f.score.get_ref();
+        let err = |m: String| Err(ctx.err("score", &f.score, m));
         let given = [s.good, s.bad, s.length, s.overlap, s.self_weight];
         if let Some(w) = given.iter().flatten().find(|w| !w.is_finite()) {
-            return Err(ctx.err(
-                "score",
-                &f.score,
-                format!("weights must be finite, got {w}"),
+            return err(format!("weights must be finite, got {w}"));
+        }
+        // Keys the chosen form does not read would be ignored silently.
+        let (form, reads, unused) = match s.form {
+            ScoreForm::Normalized => (
+                "normalized",
+                "good, bad, length and overlap",
+                vec![("self", s.self_weight)],
+            ),
+            ScoreForm::Paper => (
+                "paper",
+                "self and the targets' own weights (fill and outside; target and background)",
+                vec![
+                    ("good", s.good),
+                    ("bad", s.bad),
+                    ("length", s.length),
+                    ("overlap", s.overlap),
+                ],
+            ),
+        };
+        let unused: Vec<&str> = unused
+            .iter()
+            .filter(|(_, v)| v.is_some())
+            .map(|(k, _)| *k)
+            .collect();
+        if !unused.is_empty() {
+            return err(format!(
+                "the {form} form does not use `{}`: it reads {reads}; drop the key or change `form`",
+                unused.join("`, `")
             ));
         }
-        Ok(Self {
+        let weights = Self {
             form: s.form,
             good: s.good.unwrap_or(DEFAULT_GOOD),
             bad: s.bad.unwrap_or(DEFAULT_BAD),
             length: s.length.unwrap_or(DEFAULT_LENGTH),
             overlap: s.overlap,
             self_weight: s.self_weight,
-        })
+        };
+        let all = [
+            weights.good,
+            weights.bad,
+            weights.length,
+            weights.overlap.unwrap_or(0.0),
+        ];
+        if weights.form == ScoreForm::Normalized && all.iter().all(|&w| w == 0.0) {
+            return err("every weight is 0: every model would score 0".into());
+        }
+        Ok(weights)
+    }
+
+    /// Whether this is the paper's linear form (which reads the targets'
+    /// own weights).
+    pub fn is_paper(&self) -> bool {
+        self.form == ScoreForm::Paper
     }
 
     /// The volume score.

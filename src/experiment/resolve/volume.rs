@@ -15,19 +15,45 @@ use crate::score::volume::{OutsideCount, VolumeScene, VolumeTarget};
 use crate::score::{Grid, Mesh, Placement, ScoreError, ShapeMeshes};
 
 /// The scene, its target meshes (as placed, for `target.obj`) and warnings.
+/// `paper`: the score is the paper's linear form, which reads each target's
+/// `fill` and `outside` (the normalized form counts target cells and would
+/// ignore them: giving them is an error).
 pub(super) fn from_file(
     ctx: &Ctx<'_>,
     v: &Spanned<VolumeFile>,
+    paper: bool,
 ) -> Result<(VolumeScene, ShapeMeshes, Vec<String>), ExperimentError> {
     let vf = v.get_ref();
     let grid = Grid::new(
-        Vec3::from_array(vf.min),
-        Vec3::from_array(vf.max),
-        UVec3::from_array(vf.resolution),
+        Vec3::from_array(vf.min.0),
+        Vec3::from_array(vf.max.0),
+        UVec3::from_array(vf.resolution.0),
     )
     .map_err(|e| ctx.err("volume", v, e.to_string()))?;
     if vf.targets.is_empty() {
         return Err(ctx.err("volume.targets", v, "give at least one [[volume.targets]]"));
+    }
+    for (i, t) in vf.targets.iter().enumerate() {
+        let tf = t.get_ref();
+        if !paper && (tf.fill.is_some() || tf.outside.is_some()) {
+            return Err(ctx.err(
+                &format!("volume.targets[{i}]"),
+                t,
+                "`fill` and `outside` weigh cells in the paper form only; the normalized form counts target cells (weights `good`, `bad` in [score]): drop them or use form = \"paper\"",
+            ));
+        }
+    }
+    if paper
+        && vf
+            .targets
+            .iter()
+            .all(|t| t.get_ref().fill == Some(0.0) && t.get_ref().outside.unwrap_or(0.0) == 0.0)
+    {
+        return Err(ctx.err(
+            "volume.targets",
+            v,
+            "every target weight (fill, outside) is 0: every model would score 0",
+        ));
     }
     let mut targets = Vec::new();
     // Which scene targets each entry became (the built-in ship is several).
@@ -157,7 +183,7 @@ fn placement(
     if let Some(s) = &tf.scale {
         let v = match *s.get_ref() {
             ScaleFile::Uniform(k) => Vec3::splat(k),
-            ScaleFile::PerAxis(a) => Vec3::from_array(a),
+            ScaleFile::PerAxis(a) => Vec3::from_array(a.0),
         };
         p.scale = finite(v, "scale", s.span())?;
         if p.scale.cmple(Vec3::ZERO).any() {
@@ -169,10 +195,10 @@ fn placement(
         }
     }
     if let Some(r) = &tf.rotate {
-        p.rotate_degrees = finite(Vec3::from_array(*r.get_ref()), "rotate", r.span())?;
+        p.rotate_degrees = finite(Vec3::from_array(r.get_ref().0), "rotate", r.span())?;
     }
     if let Some(t) = &tf.translate {
-        p.translate = finite(Vec3::from_array(*t.get_ref()), "translate", t.span())?;
+        p.translate = finite(Vec3::from_array(t.get_ref().0), "translate", t.span())?;
     }
     if let Some(fit) = &tf.fit {
         let fkey = format!("{key}.fit");
@@ -192,7 +218,7 @@ fn placement(
                     format!("unknown box `{n}`: use \"grid\" or {{ min = [..], max = [..] }}"),
                 ));
             }
-            FitFile::Box { min, max } => (Vec3::from_array(*min), Vec3::from_array(*max)),
+            FitFile::Box { min, max } => (Vec3::from_array(min.0), Vec3::from_array(max.0)),
         };
         if !(min.is_finite() && max.is_finite() && min.cmplt(max).all()) {
             return Err(ctx.err(

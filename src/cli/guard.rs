@@ -1,0 +1,111 @@
+//! What keeps a run from losing or mixing up data: the output folder is
+//! checked before any work, no output may be one of the run's inputs,
+//! Ctrl-C and SIGTERM stop cleanly, and a second one never cuts the result
+//! files in half.
+
+use std::path::{Path, PathBuf};
+use std::sync::Once;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use super::CliError;
+
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+static WRITING: AtomicBool = AtomicBool::new(false);
+
+/// Makes Ctrl-C (and SIGTERM) stop the run cleanly after the current
+/// generation (the results so far are written); a second one quits at
+/// once, except while result files are being written, which it lets finish.
+/// Installed once per process.
+pub(super) fn catch_interrupts() {
+    static INSTALL: Once = Once::new();
+    INSTALL.call_once(|| {
+        let installed = ctrlc::set_handler(|| {
+            if INTERRUPTED.swap(true, Ordering::SeqCst) {
+                if WRITING.load(Ordering::SeqCst) {
+                    eprintln!("\nshapegen: writing the results; quitting when they are complete");
+                    return;
+                }
+                std::process::exit(130);
+            }
+            eprintln!("\nshapegen: stopping after this generation (Ctrl-C again to quit at once)");
+        });
+        if let Err(e) = installed {
+            eprintln!("shapegen: warning: cannot catch Ctrl-C: {e}");
+        }
+    });
+}
+
+/// Whether Ctrl-C (or SIGTERM) was received.
+pub(super) fn interrupted() -> bool {
+    INTERRUPTED.load(Ordering::SeqCst)
+}
+
+/// Runs `write` (writing result files) with a second Ctrl-C held off until
+/// it returns, so the files are never half of two runs.
+pub(super) fn writing<T>(write: impl FnOnce() -> T) -> T {
+    WRITING.store(true, Ordering::SeqCst);
+    let out = write();
+    WRITING.store(false, Ordering::SeqCst);
+    out
+}
+
+/// Creates `dir` if needed and checks that files can be written there (a
+/// probe file is created and removed), so that a run never computes
+/// results it cannot save.
+pub(super) fn check_output_dir(dir: &Path) -> Result<(), CliError> {
+    let fail = |why: String| {
+        CliError::msg(format!(
+            "cannot write results to {}: {why}; nothing was run",
+            dir.display()
+        ))
+    };
+    if dir.exists() && !dir.is_dir() {
+        return Err(fail("it is not a directory".into()));
+    }
+    std::fs::create_dir_all(dir).map_err(|e| fail(e.to_string()))?;
+    let probe = dir.join(format!(".shapegen-probe-{}", std::process::id()));
+    std::fs::write(&probe, b"probe").map_err(|e| fail(e.to_string()))?;
+    std::fs::remove_file(&probe).map_err(|e| fail(e.to_string()))?;
+    Ok(())
+}
+
+/// Checks that a file to be written can be, before a run: its folder exists
+/// and takes a probe file.
+pub(super) fn check_output_file(path: &Path) -> Result<(), CliError> {
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    if path.is_dir() {
+        return Err(CliError::msg(format!(
+            "cannot write {}: it is a directory",
+            path.display()
+        )));
+    }
+    check_output_dir(&dir)
+}
+
+/// Refuses outputs that are inputs of the run: each of `outputs` (files
+/// about to be written) against each of `inputs` (files read), compared as
+/// canonical paths.
+pub(super) fn refuse_overwriting_inputs(
+    outputs: &[PathBuf],
+    inputs: &[PathBuf],
+) -> Result<(), CliError> {
+    let canonical = |p: &Path| std::fs::canonicalize(p).ok();
+    let inputs: Vec<(PathBuf, PathBuf)> = inputs
+        .iter()
+        .filter_map(|p| canonical(p).map(|c| (p.clone(), c)))
+        .collect();
+    for out in outputs {
+        let Some(c) = canonical(out) else { continue };
+        if let Some((input, _)) = inputs.iter().find(|(_, i)| *i == c) {
+            return Err(CliError::msg(format!(
+                "the run would write {} over its input {}: choose another --out or --checkpoint; nothing was run",
+                out.display(),
+                input.display()
+            )));
+        }
+    }
+    Ok(())
+}
