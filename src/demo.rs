@@ -12,60 +12,11 @@
 //!
 //! Its optimum, reached only by `n` blocks all at `x = 0.5`, is exactly 1.
 
-use crate::genome::Chromosome;
+pub use shapegen_core::demo::{BlocksTarget, blocks_graph};
+
 use crate::glam::Vec3;
-use crate::graph::{Dist, Graph, GraphBuilder, Limits};
-use crate::optimize::Fitness;
 use crate::score::Mesh;
 use crate::score::volume::VolumeTarget;
-
-/// The blocks generator: `Start → Block`, each `Block` with parameter `x`
-/// and two optional child blocks (`p = 0.4` each).
-#[must_use]
-pub fn blocks_graph() -> Graph {
-    GraphBuilder::new("blocks")
-        .start("Start")
-        .limits(Limits {
-            max_depth: Some(64),
-            min_len: 2,
-            max_len: Some(1000),
-        })
-        .node("Start", |n| n.slot("first", "Block", 1.0))
-        .node("Block", |n| {
-            n.emits()
-                .param_f32("x", Dist::uniform(0.0, 1.0))
-                .slot("left", "Block", 0.4)
-                .slot("right", "Block", 0.4)
-        })
-        .build()
-        .expect("the blocks graph is valid")
-}
-
-/// Fitness of the blocks problem: exactly `blocks` blocks, all at `x = 0.5`. Optimum 1.
-#[derive(Clone, Copy, Debug)]
-pub struct BlocksTarget<'g> {
-    /// The blocks graph (from [`blocks_graph`]).
-    pub graph: &'g Graph,
-    /// The wanted number of blocks `n` (at least 1).
-    pub blocks: usize,
-}
-
-impl Fitness for BlocksTarget<'_> {
-    type Scratch = ();
-
-    fn scratch(&self) {}
-
-    fn evaluate(&self, c: &Chromosome, (): &mut ()) -> f64 {
-        let (mut count, mut sum) = (0usize, 0.0f64);
-        for g in c.genes(self.graph).filter(|g| g.slot_count() == 2) {
-            let x = f64::from(g.param_f32(0));
-            sum += (-((x - 0.5) / 0.1).powi(2)).exp();
-            count += 1;
-        }
-        let n = self.blocks.max(1) as f64;
-        (sum - 2.0 * (count as f64 - n).abs()) / n
-    }
-}
 
 /// The built-in target of `cargo run`: a ship-shaped volume (a hull along +z
 /// with a cockpit on top and wings on both sides), as abutting boxes, one

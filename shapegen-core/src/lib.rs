@@ -62,6 +62,7 @@
 
 #![forbid(unsafe_code)]
 
+pub mod demo;
 pub mod express;
 pub mod genome;
 pub mod graph;

@@ -1,8 +1,6 @@
 //! Image targets: PNG sketches, counts against brute-force coverage, overlays.
 
-mod common;
-
-use common::{placement, shared};
+use crate::common::{placement, shared};
 use glam::{Affine3A, DVec3, Quat, Vec3};
 use proptest::prelude::*;
 use shapegen_score::Mesh;

@@ -1,8 +1,8 @@
 //! Exactness of the silhouette rasterizer against per-pixel ray casting.
 
-mod common;
-
-use common::{mixed_orientation, open_box, open_star, placement, star_prism, tube, wavy_sheet};
+use crate::common::{
+    mixed_orientation, open_box, open_star, placement, star_prism, tube, wavy_sheet,
+};
 use glam::{Affine3A, DVec3, Vec3};
 use proptest::prelude::*;
 use shapegen_score::Mesh;
@@ -120,7 +120,7 @@ fn open_shapes() -> Vec<RasterShape> {
         mixed_orientation(),
         tube(),
     ];
-    if let Some(leaf) = common::shared("data/paper/leaf.obj") {
+    if let Some(leaf) = crate::common::shared("data/paper/leaf.obj") {
         meshes.push(Mesh::load_obj(&leaf).unwrap().normalized());
     }
     meshes

@@ -1,10 +1,8 @@
 //! Volume counts and scores against a brute-force count from per-voxel references.
 
-mod common;
-
 use std::collections::HashMap;
 
-use common::placement;
+use crate::common::placement;
 use glam::{Affine3A, IVec3, Quat, UVec3, Vec3};
 use proptest::prelude::*;
 use shapegen_core::graph::Limits;

@@ -1,11 +1,9 @@
 //! Exactness of the span voxelizer against per-voxel references, on random
 //! transforms of the cube, the trunk frustum and real meshes.
 
-mod common;
-
 use std::collections::HashSet;
 
-use common::{
+use crate::common::{
     mixed_orientation, open_box, open_star, placement, shared, star_prism, tube, wavy_sheet,
 };
 use glam::{Affine3A, IVec3, UVec3, Vec3};

@@ -1,9 +1,9 @@
 //! On the blocks problem (optimum 1), at equal evaluations: SMC, SOSMC and
 //! RJMCMC each beat random search, and the GA beats all of them, on several seeds.
 
-use shapegen::demo::{BlocksTarget, blocks_graph};
-use shapegen::optimize::{Rjmcmc, RjmcmcParams, Smc, SmcParams};
-use shapegen::prelude::*;
+use shapegen_core::demo::{BlocksTarget, blocks_graph};
+use shapegen_core::optimize::{Rjmcmc, RjmcmcParams, Smc, SmcParams};
+use shapegen_core::prelude::*;
 
 #[test]
 fn ga_beats_the_baselines_which_beat_random_search() {

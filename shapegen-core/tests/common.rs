@@ -5,7 +5,7 @@
 use std::collections::BTreeMap;
 
 use proptest::prelude::*;
-use shapegen::prelude::*;
+use shapegen_core::prelude::*;
 
 /// A random parameter distribution (always valid).
 fn param_dist() -> impl Strategy<Value = ParamDist> {
@@ -87,7 +87,7 @@ pub fn graph() -> impl Strategy<Value = Graph> {
             b.build().expect("generated graphs are valid")
         })
         .prop_filter("the start node must be able to reach L_min", |g| {
-            let mut rng = shapegen::rng::stream(0, &[]);
+            let mut rng = shapegen_core::rng::stream(0, &[]);
             (0..4).all(|_| {
                 random_individual(
                     g,

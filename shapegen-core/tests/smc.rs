@@ -2,11 +2,9 @@
 //! are visited in the documented orders, every particle is a valid
 //! chromosome, and runs are deterministic whatever the thread count.
 
-mod common;
-
 use proptest::prelude::*;
-use shapegen::optimize::{Resampling, SlotOrder, Smc, SmcParams, SmcWeights};
-use shapegen::prelude::*;
+use shapegen_core::optimize::{Resampling, SlotOrder, Smc, SmcParams, SmcWeights};
+use shapegen_core::prelude::*;
 
 /// Root → A (p = 0.6), A → A (p = 0.6), max depth 8: L = 1 + the chain's length.
 fn chain() -> Graph {
@@ -152,7 +150,7 @@ proptest! {
     /// Every particle of SMC and SOSMC runs on random graphs is a valid chromosome
     /// (once it reaches `L_min`; shorter particles are partial models).
     #[test]
-    fn particles_are_valid_chromosomes(graph in common::graph(), seed in any::<u64>(), random in any::<bool>()) {
+    fn particles_are_valid_chromosomes(graph in crate::common::graph(), seed in any::<u64>(), random in any::<bool>()) {
         let order = if random { SlotOrder::Random } else { SlotOrder::Program };
         let f = FnFitness(|c: &Chromosome| -(c.len() as f64 - 10.0).abs());
         let params = SmcParams { particles: 24, order, weights: SmcWeights::AbsoluteShifted, resampling: Resampling::Multinomial };

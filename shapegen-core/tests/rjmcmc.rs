@@ -1,11 +1,9 @@
 //! RJMCMC: at β = 1 without annealing it samples the posterior; chains are
 //! valid chromosomes; runs are deterministic whatever the thread count.
 
-mod common;
-
 use proptest::prelude::*;
-use shapegen::optimize::{DelayedRejection, Ladder, LogLikelihood, Rjmcmc, RjmcmcParams};
-use shapegen::prelude::*;
+use shapegen_core::optimize::{DelayedRejection, Ladder, LogLikelihood, Rjmcmc, RjmcmcParams};
+use shapegen_core::prelude::*;
 
 /// Root → A (p = 1), A → A (p = 0.5), max depth 5: lengths 2..=6.
 fn chain() -> Graph {
@@ -117,7 +115,7 @@ proptest! {
 
     /// Every chain state on random graphs is a valid chromosome.
     #[test]
-    fn chains_stay_valid(graph in common::graph(), seed in any::<u64>(), dr in 0usize..3) {
+    fn chains_stay_valid(graph in crate::common::graph(), seed in any::<u64>(), dr in 0usize..3) {
         let f = FnFitness(|c: &Chromosome| -(c.len() as f64 - 12.0).abs());
         let delayed_rejection = [DelayedRejection::Off, DelayedRejection::Exact, DelayedRejection::ApproxAlter][dr];
         let params = RjmcmcParams { chains: 12, init: InitLength::Between { lo: 1, hi: 30 }, delayed_rejection, ..RjmcmcParams::paper(12, InitLength::Around { l0: 10 }) };

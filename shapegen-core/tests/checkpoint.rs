@@ -5,9 +5,9 @@
 
 use std::ops::ControlFlow;
 
-use shapegen::demo::{BlocksTarget, blocks_graph};
-use shapegen::optimize::{Checkpoint, Rjmcmc, RjmcmcParams, SavedState, Smc, SmcParams};
-use shapegen::prelude::*;
+use shapegen_core::demo::{BlocksTarget, blocks_graph};
+use shapegen_core::optimize::{Checkpoint, Rjmcmc, RjmcmcParams, SavedState, Smc, SmcParams};
+use shapegen_core::prelude::*;
 
 const TOTAL: u64 = 14;
 const STOP_AT: u64 = 5;

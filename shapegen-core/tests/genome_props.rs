@@ -1,15 +1,13 @@
 //! Property tests of the packed genome and its operators over random
 //! generator graphs and long random operation sequences.
 
-mod common;
-
 use std::collections::BTreeMap;
 
-use common::{Tree, path_of};
+use crate::common::{Tree, path_of};
 use proptest::prelude::*;
 use rand::RngExt;
-use shapegen::prelude::*;
-use shapegen::rng::{ShapeRng, stream};
+use shapegen_core::prelude::*;
+use shapegen_core::rng::{ShapeRng, stream};
 
 const OPS_PER_CASE: usize = 1500;
 
@@ -168,7 +166,7 @@ proptest! {
     /// validates after every operation, and each operation does exactly what
     /// it says (checked against the naive tree model).
     #[test]
-    fn operator_sequences_keep_chromosomes_valid(graph in common::graph(), seed in any::<u64>()) {
+    fn operator_sequences_keep_chromosomes_valid(graph in crate::common::graph(), seed in any::<u64>()) {
         let mut rng = stream(seed, &[]);
         let init = InitLength::Between { lo: 1, hi: 40 };
         let mut pop: Vec<Chromosome> = (0..4)
@@ -192,7 +190,7 @@ proptest! {
 
     /// Serialization round-trips and re-validates.
     #[test]
-    fn serde_round_trips(graph in common::graph(), seed in any::<u64>()) {
+    fn serde_round_trips(graph in crate::common::graph(), seed in any::<u64>()) {
         let mut rng = stream(seed, &[]);
         let c = random_individual(&graph, &InitLength::Between { lo: 1, hi: 60 }, &mut rng).unwrap();
         let json = serde_json::to_string(&c.to_data(&graph)).unwrap();
@@ -203,7 +201,7 @@ proptest! {
     /// Corrupting any word of a chromosome is either still a valid derivation
     /// (e.g. another parameter value in the support) or rejected: never a panic.
     #[test]
-    fn corrupted_data_is_rejected_not_panicking(graph in common::graph(), seed in any::<u64>(), flips in proptest::collection::vec((any::<prop::sample::Index>(), any::<u32>()), 1..4)) {
+    fn corrupted_data_is_rejected_not_panicking(graph in crate::common::graph(), seed in any::<u64>(), flips in proptest::collection::vec((any::<prop::sample::Index>(), any::<u32>()), 1..4)) {
         let mut rng = stream(seed, &[]);
         let c = random_individual(&graph, &InitLength::Between { lo: 1, hi: 30 }, &mut rng).unwrap();
         let mut data = c.to_data(&graph);

@@ -1,8 +1,8 @@
 //! The GA on a problem with a known optimum: it gets there, beats random
 //! search at equal evaluations, and is deterministic whatever the thread count.
 
-use shapegen::demo::{BlocksTarget, blocks_graph};
-use shapegen::prelude::*;
+use shapegen_core::demo::{BlocksTarget, blocks_graph};
+use shapegen_core::prelude::*;
 
 fn ga() -> Ga {
     Ga::new(GaParams {

@@ -1,8 +1,8 @@
 //! Statistical tests: grow's and cut's choice frequencies follow the paper's
 //! formulas (chi-square with fixed seeds), and p = 0 slots are never grown.
 
-use shapegen::prelude::*;
-use shapegen::rng::{ShapeRng, stream};
+use shapegen_core::prelude::*;
+use shapegen_core::rng::{ShapeRng, stream};
 
 /// Chi-square critical values at significance 0.001, by degrees of freedom.
 const CHI2_999: [f64; 11] = [

@@ -1,0 +1,19 @@
+//! The facade's integration tests, in one binary (far less linking than one
+//! binary per file): one module per area. The core crate's own tests live in
+//! `shapegen-core/tests/`, the macro's UI tests in `shapegen-macros/tests/`.
+
+/// The `shapegen` command line end to end: run, compare, render, resume, Ctrl-C.
+#[cfg(feature = "cli")]
+mod cli;
+/// A user's own generator through the whole command line.
+#[cfg(feature = "cli")]
+mod custom_generator;
+/// The macro's generated code against the run-time interpreter.
+mod express_props;
+/// Evaluating a fitness allocates nothing after warm-up.
+mod no_alloc;
+/// The binary against careless and hostile input.
+#[cfg(feature = "cli")]
+mod robustness;
+/// The paper's generators: structure and placement.
+mod scenes;
