@@ -463,6 +463,64 @@ fn target_meshes_that_cover_nothing_or_lose_faces() {
         case.file("e.toml", with_mesh("t.obj"));
         case.fails(&["run", "e.toml", "-q"], words);
     }
+    // Geometry far outside or huge costs no more than the grid it touches.
+    let far: &[(&str, String, String)] = &[
+        (
+            "stray-vertex",
+            format!(
+                "{}v 1e20 0 0\nf 1 2 9\n",
+                box_obj([-1.0, -1.0, 0.0], [1.0, 1.0, 4.0])
+            ),
+            with_mesh("t.obj"),
+        ),
+        (
+            "huge-target",
+            box_obj([-5000.0, -5000.0, -2000.0], [5000.0, 5000.0, 18000.0]),
+            with_mesh("t.obj"),
+        ),
+        (
+            "huge-shape",
+            box_obj([-50.0, -50.0, -50.0], [50.0, 50.0, 50.0]),
+            format!("{SMALL}[shapes.cube]\nmesh = \"t.obj\"\n"),
+        ),
+        (
+            "tiny-grid",
+            box_obj([-1.0, -1.0, 0.0], [1.0, 1.0, 4.0]),
+            with_mesh("t.obj").replace(
+                "max = [5.0, 5.0, 18.0]",
+                "max = [-4.9999, -4.9999, -1.9999]",
+            ),
+        ),
+    ];
+    for (name, obj, experiment) in far {
+        let mut case = Case::new(name);
+        case.file("t.obj", obj);
+        case.file("e.toml", experiment);
+        let out = case.run(&["run", "e.toml", "--generations", "3", "-q", "--out", "out"]);
+        assert!(
+            matches!(out.code, Some(0 | 1)),
+            "{name}: {:?} {}",
+            out.code,
+            out.stderr
+        );
+        case.checks(&[name], &out);
+    }
+    // A grid of 1e-30 units inside the ship's hull: the parts outside it are
+    // said at once, and the run ends (every model is 10^30 cells across).
+    let mut case = Case::new("nano-grid");
+    case.file(
+        "e.toml",
+        SMALL
+            .replace("min = [-5.0, -5.0, -2.0]", "min = [0.0, 0.0, 0.0]")
+            .replace("max = [5.0, 5.0, 18.0]", "max = [1e-30, 1e-30, 1e-30]"),
+    );
+    let out = case.succeeds(&["run", "e.toml", "-q", "--out", "out"]);
+    assert!(
+        out.stderr.contains("lies outside the grid"),
+        "{}",
+        out.stderr
+    );
+
     // 1000× too large and far away: fitted into the grid it is fine.
     let mut case = Case::new("fit");
     case.file(

@@ -111,8 +111,21 @@ impl Grid {
     #[inline]
     #[must_use]
     pub fn first_at_or_after(&self, axis: usize, x: f64) -> i64 {
-        // A truncating guess (no libm call); the loops make it exact.
-        let mut i = ((x - self.min[axis]) / self.cell[axis] - 0.5) as i64;
+        // A truncating guess (no libm call); the loops make it exact. Points
+        // farther than 2^40 cells away (or NaN) get the bound itself: no
+        // caller walks that far (see `Grid::walkable`), and the loops could
+        // not end.
+        let guess = (x - self.min[axis]) / self.cell[axis] - 0.5;
+        if !(guess.abs() < Self::FAR) {
+            return if guess > 0.0 {
+                Self::FAR as i64
+            } else if guess < 0.0 {
+                -(Self::FAR as i64)
+            } else {
+                0
+            };
+        }
+        let mut i = guess as i64;
         while self.center_along(axis, i - 1) >= x {
             i -= 1;
         }
@@ -120,6 +133,28 @@ impl Grid {
             i += 1;
         }
         i
+    }
+
+    /// Lattice indices farther than this from the grid are clamped to it by
+    /// [`first_at_or_after`](Self::first_at_or_after).
+    const FAR: f64 = (1u64 << 40) as f64;
+
+    /// The lattice indices along `axis` that a voxelizer walks: the grid and
+    /// one grid size beyond each face. Cells outside the grid are counted
+    /// (for the out-of-grid term) within this margin only, so no geometry,
+    /// however large or far, costs more than three grid sizes per axis.
+    #[must_use]
+    pub fn walkable(&self, axis: usize) -> std::ops::Range<i64> {
+        let d = i64::from(self.dims[axis]);
+        -d..2 * d
+    }
+
+    /// `range` cut to [`walkable`](Self::walkable) along `axis`.
+    #[must_use]
+    pub fn clamp_walk(&self, axis: usize, range: std::ops::Range<i64>) -> std::ops::Range<i64> {
+        let w = self.walkable(axis);
+        let start = range.start.max(w.start);
+        start..range.end.min(w.end).max(start)
     }
 
     /// The lattice indices along `axis` whose centres lie in `[lo, hi]`.
@@ -149,6 +184,27 @@ impl Grid {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn far_points_are_clamped_and_walks_bounded() {
+        let g = super::Grid::new(
+            glam::Vec3::ZERO,
+            glam::Vec3::splat(1.0),
+            glam::UVec3::new(10, 20, 30),
+        )
+        .unwrap();
+        // Beyond 2^40 cells: the bound, at once (the loops would never end).
+        assert_eq!(g.first_at_or_after(0, 1e20), 1 << 40);
+        assert_eq!(g.first_at_or_after(0, -1e20), -(1 << 40));
+        assert_eq!(g.first_at_or_after(0, f64::NAN), 0);
+        assert_eq!(g.first_at_or_after(0, 0.55), 5);
+        // Walks stay within one grid size of the grid on each axis.
+        assert_eq!(g.walkable(1), -20..40);
+        assert_eq!(g.clamp_walk(2, -1000..5), -30..5);
+        assert_eq!(g.clamp_walk(0, 5..1 << 40), 5..20);
+        assert_eq!(g.clamp_walk(0, 100..200), 100..100);
+        assert!(g.clamp_walk(0, -200..-100).is_empty());
+    }
+
     use super::*;
 
     #[test]

@@ -322,10 +322,10 @@ pub fn aabb_cells_outside(grid: &Grid, solid: &Solid, transform: &Affine3A) -> u
     };
     let (mut all, mut inside) = (1u64, 1u64);
     for axis in 0..3 {
-        let cells = grid.centres_in(axis, wlo[axis], whi[axis]);
+        let cells = grid.clamp_walk(axis, grid.centres_in(axis, wlo[axis], whi[axis]));
         let dim = i64::from(grid.dims()[axis]);
-        all *= (cells.end - cells.start).max(0) as u64;
-        inside *= (cells.end.min(dim) - cells.start.max(0)).max(0) as u64;
+        all = all.saturating_mul((cells.end - cells.start).max(0) as u64);
+        inside = inside.saturating_mul((cells.end.min(dim) - cells.start.max(0)).max(0) as u64);
     }
     all - inside
 }

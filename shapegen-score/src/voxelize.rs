@@ -146,16 +146,20 @@ fn rows(grid: &Grid, solid: &Solid, transform: &Affine3A) -> Option<Rows> {
         dir: inv.matrix3 * DVec3::X,
         x_start,
         len: (whi.x - wlo.x) + 2.0 * cell.x,
-        y: grid.centres_in(1, wlo.y, whi.y),
-        z: grid.centres_in(2, wlo.z, whi.z),
+        // Rows beyond one grid size outside are not walked (see Grid::walkable).
+        y: grid.clamp_walk(1, grid.centres_in(1, wlo.y, whi.y)),
+        z: grid.clamp_walk(2, grid.centres_in(2, wlo.z, whi.z)),
     })
 }
 
 impl Rows {
     /// The cells along x that every row of the instance looks at.
     fn x_cells(&self, grid: &Grid) -> std::ops::Range<i64> {
-        grid.first_at_or_after(0, self.x_start)
-            ..grid.first_at_or_after(0, self.x_start + self.len) + 1
+        grid.clamp_walk(
+            0,
+            grid.first_at_or_after(0, self.x_start)
+                ..grid.first_at_or_after(0, self.x_start + self.len) + 1,
+        )
     }
 
     /// Local start of the line of row `(y, z)` (world centre coordinates).
