@@ -116,7 +116,7 @@ impl Grid {
         // caller walks that far (see `Grid::walkable`), and the loops could
         // not end.
         let guess = (x - self.min[axis]) / self.cell[axis] - 0.5;
-        if !(guess.abs() < Self::FAR) {
+        if guess.is_nan() || guess.abs() >= Self::FAR {
             return if guess > 0.0 {
                 Self::FAR as i64
             } else if guess < 0.0 {
