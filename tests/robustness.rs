@@ -1076,3 +1076,93 @@ fn a_full_disk_while_checkpointing_keeps_the_results() {
         "resumed",
     ]);
 }
+
+/// Ctrl-C in the middle of a long generation stops the run within about a
+/// second (the generation in progress is dropped), writes the results and
+/// a checkpoint of the last complete generation, which resumes.
+#[cfg(unix)]
+#[test]
+fn ctrl_c_stops_a_slow_generation_within_a_second() {
+    let mut case = Case::new("slow");
+    // The paper's 100 × 200 × 100 grid and 20,000 ships a generation: a few
+    // seconds each on this machine.
+    case.file(
+        "e.toml",
+        SMALL
+            .replace("[20, 40, 20]", "[100, 200, 100]")
+            .replace("population = 20", "population = 20000")
+            .replace("elites = 4", "elites = 100"),
+    );
+    let mut child = Command::new(env!("CARGO_BIN_EXE_shapegen"))
+        .args([
+            "run",
+            "e.toml",
+            "--generations",
+            "1000",
+            "--out",
+            "out",
+            "--checkpoint",
+            "cp.json",
+            "--every",
+            "1000",
+        ])
+        .current_dir(&case.dir)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Wait for the first generation's progress line, then interrupt the next.
+    let mut stderr = child.stderr.take().unwrap();
+    let mut seen = Vec::new();
+    let started = Instant::now();
+    use std::io::Read;
+    let mut buf = [0u8; 256];
+    while !String::from_utf8_lossy(&seen).contains("gen 1 ") {
+        let n = stderr.read(&mut buf).unwrap();
+        assert!(
+            n > 0 && started.elapsed() < LIMIT,
+            "{}",
+            String::from_utf8_lossy(&seen)
+        );
+        seen.extend_from_slice(&buf[..n]);
+    }
+    std::thread::sleep(Duration::from_millis(300));
+    let signalled = Instant::now();
+    assert!(
+        Command::new("kill")
+            .args(["-INT", &child.id().to_string()])
+            .status()
+            .unwrap()
+            .success()
+    );
+    let mut rest = String::new();
+    stderr.read_to_string(&mut rest).unwrap();
+    let status = child.wait().unwrap();
+    let stopped_after = signalled.elapsed();
+    assert_eq!(status.code(), Some(130), "{rest}");
+    // The results take a moment to write; the run itself stops at once.
+    assert!(
+        stopped_after < Duration::from_secs(3),
+        "{stopped_after:?}\n{rest}"
+    );
+    let summary = json(&case.dir.join("out/summary.json"));
+    assert_eq!(summary["stop"], "observer", "{rest}");
+    let generations = summary["generations"].as_u64().unwrap();
+    let cp = json(&case.dir.join("cp.json"));
+    assert_eq!(
+        cp["checkpoint"]["generation"].as_u64(),
+        Some(generations),
+        "{rest}"
+    );
+    case.succeeds(&[
+        "run",
+        "e.toml",
+        "--resume",
+        "cp.json",
+        "--generations",
+        &(generations + 1).to_string(),
+        "-q",
+        "--out",
+        "resumed",
+    ]);
+}

@@ -12,6 +12,8 @@ mod checkpoint;
 mod ga;
 /// The packed genome and its operators over random graphs.
 mod genome_props;
+/// An interrupt flag stops a run mid-generation at the last complete one.
+mod interrupt;
 /// Grow's and cut's choice frequencies (chi-square).
 mod operator_stats;
 /// RJMCMC samples the posterior; chains stay valid.

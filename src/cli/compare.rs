@@ -13,7 +13,7 @@ use super::plot::{self, Series};
 use super::{Cli, CliError, seconds, thread_pool};
 use crate::experiment::{Experiment, Method};
 use crate::genome::Chromosome;
-use crate::optimize::{Budget, GenerationStats, RunResult};
+use crate::optimize::{Budget, GenerationStats, Interruptible, RunResult};
 use crate::output::{self, Row, mean_iou, write_json};
 use crate::score::files::write_atomically;
 
@@ -154,7 +154,7 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
             let seed = first_seed + r;
             let mut rows = Vec::new();
             let mut improvements: Improvements = Vec::new();
-            let mut observer = |s: &GenerationStats<'_>| {
+            let observer = |s: &GenerationStats<'_>| {
                 rows.push(Row::of(s));
                 let improved = improvements
                     .last()
@@ -172,8 +172,13 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
                     ControlFlow::Continue(())
                 }
             };
+            let mut observer = Interruptible {
+                observer,
+                flag: guard::interrupt_flag(),
+            };
             let result =
                 pool.install(|| experiment.run(method, &budget, seed, None, &mut observer))?;
+            drop(observer);
             if !args.quiet {
                 eprintln!(
                     "  {method:<6} run {} (seed {seed}): best {:.4} after {} generations, {} evaluations",

@@ -4,17 +4,20 @@
 //! files in half.
 
 use std::path::{Path, PathBuf};
-use std::sync::Once;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, LazyLock, Once};
 
 use super::CliError;
 
-static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+/// Set by the first Ctrl-C or SIGTERM; shared with the optimizers, which
+/// poll it while they evaluate.
+static INTERRUPTED: LazyLock<Arc<AtomicBool>> = LazyLock::new(|| Arc::new(AtomicBool::new(false)));
 static WRITING: AtomicBool = AtomicBool::new(false);
 
-/// Makes Ctrl-C (and SIGTERM) stop the run cleanly after the current
-/// generation (the results so far are written); a second one quits at
-/// once, except while result files are being written, which it lets finish.
+/// Makes Ctrl-C (and SIGTERM) stop the run cleanly within one evaluation:
+/// the generation in progress is dropped and the results of the last
+/// complete one are written; a second one quits at once, except while
+/// result files are being written, which it lets finish.
 /// Installed once per process.
 pub(super) fn catch_interrupts() {
     static INSTALL: Once = Once::new();
@@ -27,12 +30,17 @@ pub(super) fn catch_interrupts() {
                 }
                 std::process::exit(130);
             }
-            eprintln!("\nshapegen: stopping after this generation (Ctrl-C again to quit at once)");
+            eprintln!("\nshapegen: stopping; the generation in progress is dropped (Ctrl-C again to quit at once)");
         });
         if let Err(e) = installed {
             eprintln!("shapegen: warning: cannot catch Ctrl-C: {e}");
         }
     });
+}
+
+/// The flag Ctrl-C (or SIGTERM) sets, for [`Interruptible`](crate::optimize::Interruptible).
+pub(super) fn interrupt_flag() -> Arc<AtomicBool> {
+    Arc::clone(&INTERRUPTED)
 }
 
 /// Whether Ctrl-C (or SIGTERM) was received.

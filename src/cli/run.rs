@@ -9,7 +9,7 @@ use super::guard::{self, interrupted};
 use super::progress::Progress;
 use super::saved::SavedRun;
 use super::{Cli, CliError, seconds, thread_pool};
-use crate::optimize::{Budget, GenerationStats, StopReason};
+use crate::optimize::{Budget, GenerationStats, Interruptible, StopReason};
 use crate::output::{self, Row, Summary};
 
 /// Runs `shapegen run`.
@@ -86,28 +86,34 @@ pub(super) fn run(cli: &Cli, args: &RunArgs) -> Result<(), CliError> {
     let mut curve: Vec<Row> = saved.as_ref().map(|s| s.curve.clone()).unwrap_or_default();
     let mut progress = Progress::new(&budget, args.quiet).with_quality(&experiment);
     let mut checkpoint_error = None;
-    let mut observer = |s: &GenerationStats<'_>| {
+    // The latest generation's checkpoint, unwritten (with the curve's length
+    // then): written when Ctrl-C stops the run in the middle of the next.
+    let mut pending: Option<(crate::optimize::Checkpoint, usize)> = None;
+    let seal = |checkpoint, curve: &[Row]| SavedRun {
+        experiment: experiment.name().to_string(),
+        method: method.name().to_string(),
+        budget,
+        fingerprint: experiment.fingerprint(),
+        curve: curve.to_vec(),
+        checkpoint,
+        integrity: String::new(),
+    };
+    let observer = |s: &GenerationStats<'_>| {
         curve.push(Row::of(s));
         progress.update(s);
         let stop = interrupted();
-        if let Some(path) = &args.checkpoint
-            && (stop || s.generation.is_multiple_of(args.every.max(1)))
-        {
-            let saved = SavedRun {
-                experiment: experiment.name().to_string(),
-                method: method.name().to_string(),
-                budget,
-                fingerprint: experiment.fingerprint(),
-                curve: curve.clone(),
-                checkpoint: s.checkpoint(),
-                integrity: String::new(),
-            };
-            if let Err(e) = saved.write(path) {
-                // The last good checkpoint is intact (writes are atomic):
-                // stop here and still write the results.
-                eprintln!("\nshapegen: error: {e}; stopping and writing the results so far");
-                checkpoint_error = Some((s.generation, e));
-                return ControlFlow::Break(());
+        if let Some(path) = &args.checkpoint {
+            if stop || s.generation.is_multiple_of(args.every.max(1)) {
+                pending = None;
+                if let Err(e) = seal(s.checkpoint(), &curve).write(path) {
+                    // The last good checkpoint is intact (writes are atomic):
+                    // stop here and still write the results.
+                    eprintln!("\nshapegen: error: {e}; stopping and writing the results so far");
+                    checkpoint_error = Some((s.generation, e));
+                    return ControlFlow::Break(());
+                }
+            } else {
+                pending = Some((s.checkpoint(), curve.len()));
             }
         }
         if stop {
@@ -115,6 +121,10 @@ pub(super) fn run(cli: &Cli, args: &RunArgs) -> Result<(), CliError> {
         } else {
             ControlFlow::Continue(())
         }
+    };
+    let mut observer = Interruptible {
+        observer,
+        flag: guard::interrupt_flag(),
     };
     let result = pool.install(|| {
         experiment.run(
@@ -125,6 +135,15 @@ pub(super) fn run(cli: &Cli, args: &RunArgs) -> Result<(), CliError> {
             &mut observer,
         )
     })?;
+    drop(observer);
+    // Stopped in the middle of a generation: save the last complete one.
+    if let (Some(path), Some((checkpoint, len))) = (&args.checkpoint, pending.take())
+        && result.stop == StopReason::Observer
+        && checkpoint_error.is_none()
+        && let Err(e) = seal(checkpoint, &curve[..len]).write(path)
+    {
+        checkpoint_error = Some((result.generations, e));
+    }
     progress.finish();
     let stopped_by_user = result.stop == StopReason::Observer && checkpoint_error.is_none();
     if stopped_by_user {

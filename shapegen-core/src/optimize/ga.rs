@@ -256,7 +256,7 @@ impl Optimizer for Ga {
             }
             None => {
                 let (population, fresh) =
-                    evaluate(fitness, self.initial_population(graph, seed)?, &pool);
+                    evaluate(fitness, self.initial_population(graph, seed)?, &pool, None);
                 progress.evaluations += fresh;
                 population
             }
@@ -290,7 +290,10 @@ impl Optimizer for Ga {
                 .collect();
             // With one place left, only the pair's first child is kept.
             next.extend(children.into_iter().take(missing));
-            let (evaluated, fresh) = evaluate(fitness, next, &pool);
+            let (evaluated, fresh) = evaluate(fitness, next, &pool, progress.stop_flag());
+            if progress.interrupted() {
+                return Ok(progress.abandon(population));
+            }
             progress.evaluations += fresh;
             population = evaluated;
         }

@@ -28,7 +28,7 @@ pub use budget::{Budget, StopReason};
 pub use checkpoint::{CHECKPOINT_VERSION, Checkpoint, SavedIndividual, SavedParticle, SavedState};
 pub use fitness::{Fitness, FnFitness, is_valid_score};
 pub use ga::{Ga, GaParams};
-pub use observer::{GenerationStats, NoObserver, Observer};
+pub use observer::{GenerationStats, Interruptible, NoObserver, Observer};
 pub use random::RandomSearch;
 pub use rjmcmc::{DelayedRejection, Ladder, LogLikelihood, Rjmcmc, RjmcmcParams};
 pub use scratch::{Pooled, ScratchPool, evaluate_all};

@@ -1,6 +1,8 @@
 //! Watching a run: progress, logs, early stops.
 
 use std::ops::ControlFlow;
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
 use super::Individual;
@@ -73,6 +75,36 @@ impl std::fmt::Debug for Snapshot<'_> {
 pub trait Observer {
     /// Sees one generation's statistics.
     fn generation(&mut self, stats: &GenerationStats<'_>) -> ControlFlow<()>;
+
+    /// A flag the optimizer polls while it evaluates a generation: once it is
+    /// set, the remaining evaluations are skipped, the unfinished
+    /// generation is dropped and the run ends as if this observer had
+    /// stopped it after the last complete generation
+    /// ([`StopReason::Observer`](super::StopReason::Observer)). This lets
+    /// Ctrl-C stop a run with slow evaluations within one evaluation. The
+    /// initial population and SMC steps are always finished. None by default.
+    fn interrupt(&self) -> Option<Arc<AtomicBool>> {
+        None
+    }
+}
+
+/// An observer with an interrupt flag (see [`Observer::interrupt`]).
+#[derive(Debug)]
+pub struct Interruptible<O> {
+    /// The observer that sees each generation.
+    pub observer: O,
+    /// The flag that stops the run mid-generation.
+    pub flag: Arc<AtomicBool>,
+}
+
+impl<O: Observer> Observer for Interruptible<O> {
+    fn generation(&mut self, stats: &GenerationStats<'_>) -> ControlFlow<()> {
+        self.observer.generation(stats)
+    }
+
+    fn interrupt(&self) -> Option<Arc<AtomicBool>> {
+        Some(Arc::clone(&self.flag))
+    }
 }
 
 impl<F: FnMut(&GenerationStats<'_>) -> ControlFlow<()>> Observer for F {

@@ -2,6 +2,8 @@
 //! observer calls and budget checks.
 
 use std::ops::ControlFlow;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
@@ -36,20 +38,29 @@ impl Candidate {
 ///
 /// Each rayon job borrows one scratch from `pool` (kept across generations).
 /// Evaluation is pure, so the result does not depend on the number of threads.
+///
+/// Once `stop` is set the remaining evaluations are skipped (NaN): the
+/// caller then drops the generation ([`Progress::abandon`]).
 pub(crate) fn evaluate<F: Fitness>(
     fitness: &F,
     candidates: Vec<Candidate>,
     pool: &ScratchPool<F::Scratch>,
+    stop: Option<&AtomicBool>,
 ) -> (Vec<Individual>, u64) {
     let fresh = candidates.iter().filter(|c| c.fitness.is_none()).count() as u64;
+    let stopped = || stop.is_some_and(|s| s.load(Ordering::Relaxed));
     let individuals = candidates
         .into_par_iter()
         .map_init(
             || pool.take(|| fitness.scratch()),
             |scratch, c| {
-                let f = c
-                    .fitness
-                    .unwrap_or_else(|| fitness.evaluate(&c.chromosome, scratch));
+                let f = c.fitness.unwrap_or_else(|| {
+                    if stopped() {
+                        f64::NAN
+                    } else {
+                        fitness.evaluate(&c.chromosome, scratch)
+                    }
+                });
                 Individual {
                     chromosome: c.chromosome,
                     fitness: f,
@@ -68,6 +79,8 @@ pub(crate) struct Progress<'o> {
     offset: Duration,
     budget: Budget,
     observer: &'o mut dyn Observer,
+    /// The observer's interrupt flag, if any.
+    interrupt: Option<Arc<AtomicBool>>,
     pub evaluations: u64,
     pub generation: u64,
     best: Option<Individual>,
@@ -95,6 +108,7 @@ impl<'o> Progress<'o> {
             start: Instant::now(),
             offset: Duration::ZERO,
             budget,
+            interrupt: observer.interrupt(),
             observer,
             evaluations: 0,
             generation: 0,
@@ -208,6 +222,24 @@ impl<'o> Progress<'o> {
             return Some(StopReason::Observer);
         }
         self.budget_reached_at(elapsed)
+    }
+
+    /// The interrupt flag to pass to [`evaluate`].
+    pub fn stop_flag(&self) -> Option<&AtomicBool> {
+        self.interrupt.as_deref()
+    }
+
+    /// Whether the observer's interrupt flag is set.
+    pub fn interrupted(&self) -> bool {
+        self.stop_flag().is_some_and(|s| s.load(Ordering::Relaxed))
+    }
+
+    /// Ends a run interrupted in the generation after the last complete one
+    /// (whose counters it keeps): `population` is the state after that
+    /// generation.
+    pub fn abandon(mut self, population: Vec<Individual>) -> RunResult {
+        self.generation = self.generation.saturating_sub(1);
+        self.finish(StopReason::Observer, population)
     }
 
     /// The result of the run.

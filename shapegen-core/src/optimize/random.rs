@@ -61,7 +61,10 @@ impl Optimizer for RandomSearch {
                     random_individual(graph, &self.init, &mut rng).map(Candidate::new)
                 })
                 .collect::<Result<_, _>>()?;
-            let (mut population, fresh) = evaluate(fitness, batch, &pool);
+            let (mut population, fresh) = evaluate(fitness, batch, &pool, progress.stop_flag());
+            if progress.interrupted() && progress.generation > 0 {
+                return Ok(progress.abandon(Vec::new()));
+            }
             progress.evaluations += fresh;
             let save = || SavedState::Population {
                 individuals: Vec::new(),

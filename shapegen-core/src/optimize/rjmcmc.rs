@@ -451,7 +451,8 @@ impl Rjmcmc {
             .iter()
             .map(|(_, y, _)| Candidate::new(y.clone()))
             .collect();
-        let (evaluated, fresh) = evaluate(fitness, candidates, pool);
+        // Not interrupted: the first stage already changed the chains.
+        let (evaluated, fresh) = evaluate(fitness, candidates, pool, None);
         progress.evaluations += fresh;
         let ll = self.params.log_likelihood;
         for ((i, _, u), y2) in second.iter().zip(evaluated) {
@@ -552,7 +553,7 @@ impl Optimizer for Rjmcmc {
                         )?))
                     })
                     .collect::<Result<_, OptimizeError>>()?;
-                let (chains, fresh) = evaluate(fitness, init, &pool);
+                let (chains, fresh) = evaluate(fitness, init, &pool, None);
                 progress.evaluations += fresh;
                 (chains, self.params.ladder.betas(self.params.chains))
             }
@@ -589,7 +590,10 @@ impl Optimizer for Rjmcmc {
                     fitness: (!p.changed).then_some(x.fitness),
                 })
                 .collect();
-            let (evaluated, fresh) = evaluate(fitness, candidates, &pool);
+            let (evaluated, fresh) = evaluate(fitness, candidates, &pool, progress.stop_flag());
+            if progress.interrupted() {
+                return Ok(progress.abandon(chains));
+            }
             progress.evaluations += fresh;
             // First stage; remember rejected jumps (with y1's fitness) for delayed rejection.
             let mut rejected: Vec<(usize, f64)> = Vec::new();

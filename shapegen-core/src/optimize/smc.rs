@@ -386,7 +386,7 @@ impl Optimizer for Smc {
                     .iter()
                     .map(|p| Candidate::new(p.chromosome.clone()))
                     .collect();
-                let (evaluated, fresh) = evaluate(fitness, roots, &pool);
+                let (evaluated, fresh) = evaluate(fitness, roots, &pool, None);
                 progress.evaluations += fresh;
                 for (p, e) in particles.iter_mut().zip(&evaluated) {
                     p.fitness = e.fitness;
@@ -424,7 +424,7 @@ impl Optimizer for Smc {
                         fitness: (!c && p.fitness.is_finite()).then_some(p.fitness),
                     })
                     .collect();
-                let (evaluated, fresh) = evaluate(fitness, candidates, &pool);
+                let (evaluated, fresh) = evaluate(fitness, candidates, &pool, None);
                 progress.evaluations += fresh;
                 for (p, e) in particles.iter_mut().zip(&evaluated) {
                     p.previous = p.fitness;
