@@ -505,6 +505,25 @@ fn target_meshes_that_cover_nothing_or_lose_faces() {
         );
         case.checks(&[name], &out);
     }
+    // A grid far from where the generator builds, around its target.
+    let mut case = Case::new("far-grid");
+    case.file(
+        "t.obj",
+        box_obj([100.0, 100.0, 100.0], [104.0, 104.0, 104.0]),
+    );
+    case.file(
+        "e.toml",
+        with_mesh("t.obj")
+            .replace("min = [-5.0, -5.0, -2.0]", "min = [95.0, 95.0, 95.0]")
+            .replace("max = [5.0, 5.0, 18.0]", "max = [110.0, 110.0, 110.0]"),
+    );
+    let out = case.succeeds(&["run", "e.toml", "--out", "out"]);
+    assert!(
+        out.stderr
+            .contains("none of 16 random models of `spaceship` is seen"),
+        "{}",
+        out.stderr
+    );
     // A grid of 1e-30 units inside the ship's hull: the parts outside it are
     // said at once, and the run ends (every model is 10^30 cells across).
     let mut case = Case::new("nano-grid");
@@ -637,6 +656,21 @@ fn image_targets_are_never_silently_wrong() {
     case.file("half.png", bytes);
     case.file("e.toml", image_experiment("half.png", "mask = \"dark\""));
     case.fails(&["run", "e.toml", "-q"], &["half.png"]);
+    // A camera looking away from where the trees grow: said before the run.
+    case.file(
+        "e.toml",
+        image_experiment("render.png", "mask = \"dark\"").replace(
+            "camera = { phi = -1.5708, theta = 0.0, r = 9.0, look_at = [0.0, 3.0, 0.0] }",
+            "camera = { eye = [0.0, 3.0, 9.0], target = [0.0, 3.0, 20.0] }",
+        ),
+    );
+    let out = case.succeeds(&["run", "e.toml", "--out", "out"]);
+    assert!(
+        out.stderr
+            .contains("none of 16 random models of `tree_v2` is seen"),
+        "{}",
+        out.stderr
+    );
     // Mask options.
     case.file(
         "e.toml",

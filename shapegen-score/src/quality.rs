@@ -16,6 +16,8 @@ pub struct Quality {
     pub precision: f64,
     /// The share of the target's cells the model covers.
     pub recall: f64,
+    /// Cells (pixels) the model covers.
+    pub model: u64,
 }
 
 impl Quality {
@@ -28,6 +30,7 @@ impl Quality {
             iou: ratio(both, (model + target).saturating_sub(both)),
             precision: ratio(both, model),
             recall: ratio(both, target),
+            model,
         }
     }
 }

@@ -127,7 +127,7 @@ pub(super) fn experiment(
     let generator = generator(&ctx, &parsed, registry)?;
     let (problem, warnings) = problem(&ctx, &parsed, generator)?;
     let inputs = ctx.inputs.take();
-    Ok(Experiment {
+    let mut experiment = Experiment {
         inputs,
         name: parsed
             .name
@@ -142,7 +142,35 @@ pub(super) fn experiment(
         methods,
         warnings,
         problem,
-    })
+    };
+    if let Some(w) = unseen(&experiment) {
+        experiment.warnings.push(w);
+    }
+    Ok(experiment)
+}
+
+/// Random models of the generator this many: if none is seen (covers a
+/// cell of the grid, a pixel of a camera), the scene is likely misplaced.
+const PROBES: u64 = 16;
+
+/// A warning if none of [`PROBES`] random models (the GA's initial lengths,
+/// a fixed seed) is seen by the scene: every model would score alike.
+fn unseen(e: &Experiment) -> Option<String> {
+    let crate::experiment::MethodParams::Ga(ga) = e.method(Method::Ga).params else {
+        return None;
+    };
+    for k in 0..PROBES {
+        let mut rng = crate::rng::stream(k, &[u64::from(u32::MAX)]);
+        let c = crate::ops::random_individual(e.graph(), &ga.init, &mut rng).ok()?;
+        if e.quality(&c).iter().any(|q| q.model > 0) {
+            return None;
+        }
+    }
+    Some(format!(
+        "none of {PROBES} random models of `{}` is seen by the scene ({}): check that the grid or the cameras look at where the generator builds (it starts at the origin)",
+        e.generator(),
+        e.scene()
+    ))
 }
 
 /// The TOML text as the file schema, with the key and line of any mistake.
