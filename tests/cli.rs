@@ -7,6 +7,8 @@ use std::process::{Command, Output};
 
 use serde_json::Value;
 
+use crate::util::json;
+
 fn shapegen(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_shapegen"))
         .args(args)
@@ -32,16 +34,9 @@ fn failure(args: &[&str]) -> String {
     err
 }
 
-/// A fresh temporary directory for one test.
+/// A fresh temporary directory for one test of this module.
 fn temp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("shapegen-cli-{name}-{}", std::process::id()));
-    std::fs::remove_dir_all(&dir).ok();
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn json(path: &Path) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+    crate::util::temp("cli", name)
 }
 
 /// `curve.csv` rows as numbers (empty fields are NaN).

@@ -8,7 +8,7 @@ mod topiary;
 
 use std::path::{Path, PathBuf};
 
-use serde_json::Value;
+use crate::util::json;
 use shapegen::cli::Cli;
 use shapegen::experiment::{Experiment, LoadOptions};
 use shapegen::registry::Registry;
@@ -31,14 +31,7 @@ fn run(args: &[&str]) {
 }
 
 fn temp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("shapegen-custom-{name}-{}", std::process::id()));
-    std::fs::remove_dir_all(&dir).ok();
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn json(path: &Path) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+    crate::util::temp("custom", name)
 }
 
 /// Faces per object in an OBJ file, by object name prefix (`ball`, `pot`, ...).

@@ -17,3 +17,6 @@ mod no_alloc;
 mod robustness;
 /// The paper's generators: structure and placement.
 mod scenes;
+/// Helpers the modules share.
+#[cfg_attr(not(feature = "cli"), allow(dead_code))]
+mod util;
