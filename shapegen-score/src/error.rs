@@ -42,10 +42,10 @@ pub enum ScoreError {
     /// A target that cannot be used.
     #[error("invalid target: {0}")]
     Target(String),
-    /// A scene whose targets cover no cell at all.
+    /// A target (or group of targets) that covers no cell of the grid.
     #[error("invalid target: {reason}")]
     EmptyTarget {
-        /// The first target (index in the scene's list), all being empty.
+        /// The target (its group's first, by index in the scene's list).
         target: usize,
         /// Why it covers no cell.
         reason: String,

@@ -60,10 +60,6 @@ pub struct VolumeScene {
     /// Per group of targets (only with two or more groups): whether each
     /// cell is inside one of the group's targets.
     members: Vec<Vec<bool>>,
-    /// Per target: the cells inside it.
-    cells_of: Vec<u64>,
-    /// Per target: why it covers no cell (`None` if it covers some).
-    empty: Vec<Option<String>>,
     /// `Σ_i w̃_i`: the weight of a model cell outside the grid (outside every target).
     outside_sum: f64,
     outside_count: OutsideCount,
@@ -72,7 +68,9 @@ pub struct VolumeScene {
 
 impl VolumeScene {
     /// Voxelizes `targets` over `grid` and combines them; each target is
-    /// reported on its own by [`quality`](Self::quality).
+    /// reported on its own by [`quality`](Self::quality). A target that
+    /// covers no cell centre is an error that says why
+    /// ([`ScoreError::EmptyTarget`]).
     pub fn new(grid: Grid, targets: &[VolumeTarget]) -> Result<Self, ScoreError> {
         let singles: Vec<_> = (0..targets.len()).map(|i| i..i + 1).collect();
         Self::new_grouped(grid, targets, &singles)
@@ -81,7 +79,8 @@ impl VolumeScene {
     /// [`new`](Self::new), with [`quality`](Self::quality) reported per
     /// group of targets (the union of each group's cells): e.g. the parts of
     /// one object given as several meshes. Every target must be in exactly
-    /// one group, in order.
+    /// one group, in order. A group that covers no cell is an error; an
+    /// empty part of a group that covers some is a warning.
     pub fn new_grouped(
         grid: Grid,
         targets: &[VolumeTarget],
@@ -111,7 +110,7 @@ impl VolumeScene {
         } else {
             Vec::new()
         };
-        let mut cells_of = Vec::new();
+        // Per target: why it covers no cell (`None` if it covers some).
         let mut empty: Vec<Option<String>> = Vec::new();
         for (k, t) in targets.iter().enumerate() {
             if !t.fill.is_finite() || !t.outside.is_finite() {
@@ -143,7 +142,6 @@ impl VolumeScene {
             } else {
                 empty.push(None);
             }
-            cells_of.push(cells);
             for ((w, tg), &ins) in weight.iter_mut().zip(target.iter_mut()).zip(&inside) {
                 *w += if ins { t.fill } else { t.outside };
                 *tg |= ins;
@@ -155,10 +153,17 @@ impl VolumeScene {
             }
         }
         let target_cells = target.iter().filter(|&&t| t).count() as u64;
-        if target_cells == 0
-            && let Some(reason) = empty.first().cloned().flatten()
+        // A group that covers no cell is a mistake; one empty part of a
+        // group that does (below the grid's resolution) is a warning.
+        if let Some(g) = groups
+            .iter()
+            .find(|g| empty[(*g).clone()].iter().all(Option::is_some))
         {
-            return Err(ScoreError::EmptyTarget { target: 0, reason });
+            let reason = empty[g.start].clone().unwrap_or_default();
+            return Err(ScoreError::EmptyTarget {
+                target: g.start,
+                reason,
+            });
         }
         warnings.extend(empty.iter().flatten().cloned());
         Ok(Self {
@@ -167,8 +172,6 @@ impl VolumeScene {
             target,
             target_cells,
             members,
-            cells_of,
-            empty,
             outside_sum: targets.iter().map(|t| t.outside).sum(),
             outside_count: OutsideCount::Solid,
             warnings,
@@ -216,21 +219,6 @@ impl VolumeScene {
     #[must_use]
     pub fn weights(&self) -> &[f32] {
         &self.weight
-    }
-
-    /// Cells inside target `i` (in the order given to [`new`](Self::new)).
-    #[must_use]
-    pub fn cells_of(&self, i: usize) -> u64 {
-        self.cells_of[i]
-    }
-
-    /// Why target `i` covers no cell centre (outside the grid, not closed,
-    /// flat or too small), or `None` if it covers some. A scene whose
-    /// targets all cover none is refused by [`new`](Self::new); one empty
-    /// target among others is a warning.
-    #[must_use]
-    pub fn why_empty(&self, i: usize) -> Option<&str> {
-        self.empty[i].as_deref()
     }
 
     /// Per target (in the order given to [`new`](Self::new)), or per group

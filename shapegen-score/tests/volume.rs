@@ -289,6 +289,21 @@ fn quality_is_reported_per_target_or_per_group() {
     let one =
         VolumeScene::new_grouped(grid, &targets, &[std::ops::Range { start: 0, end: 2 }]).unwrap();
     assert_eq!(measure(&one), [Quality::from_counts(300, 500, 600)]);
+    // A target outside the grid is an error of its own, a warning as part
+    // of a group that covers cells.
+    let far = boxed(20.0, 24.0);
+    let three = [boxed(0.0, 4.0), boxed(2.0, 6.0), far];
+    let err = VolumeScene::new(grid, &three).unwrap_err();
+    assert!(
+        matches!(&err, shapegen_score::ScoreError::EmptyTarget { target: 2, reason } if reason.contains("outside the grid")),
+        "{err}"
+    );
+    let grouped = VolumeScene::new_grouped(grid, &three, &[0..1, 1..3]).unwrap();
+    assert!(
+        grouped.warnings().iter().any(|w| w.contains("box 20..24")),
+        "{:?}",
+        grouped.warnings()
+    );
     // Groups must split the targets in order.
     assert!(
         VolumeScene::new_grouped(grid, &targets, &[std::ops::Range { start: 0, end: 1 }]).is_err()

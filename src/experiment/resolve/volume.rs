@@ -78,14 +78,6 @@ pub(super) fn from_file(
             None | Some(OutsideCountFile::Solid) => OutsideCount::Solid,
             Some(OutsideCountFile::Aabb) => OutsideCount::Aabb,
         });
-    // An entry covering no cell is a mistake (a part of one that does may be
-    // below the grid's resolution: the scene warns about it).
-    for (i, parts) in entries.iter().enumerate() {
-        if parts.clone().all(|k| scene.cells_of(k) == 0) {
-            let reason = scene.why_empty(parts.start).unwrap_or("it covers no cell");
-            return Err(ctx.err(&format!("volume.targets[{i}]"), &vf.targets[i], reason));
-        }
-    }
     let warnings = scene.warnings().to_vec();
     let names = (0..targets.len())
         .map(|i| format!("target_{i}").into())
