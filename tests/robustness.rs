@@ -862,9 +862,7 @@ fn checkpointed(case: &mut Case) -> Value {
 fn reseal(mut v: Value) -> String {
     v["integrity"] = Value::String(String::new());
     let text = serde_json::to_string(&v).unwrap();
-    let hash = text.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
-        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
-    });
+    let hash = shapegen::optimize::fnv1a(shapegen::optimize::FNV1A_START, text.as_bytes());
     v["integrity"] = Value::String(format!("{hash:016x}"));
     serde_json::to_string_pretty(&v).unwrap()
 }

@@ -8,9 +8,9 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use super::CliError;
-use crate::experiment::{Experiment, FNV_START, check_regular_file, fnv};
+use crate::experiment::{Experiment, check_regular_file};
 use crate::genome::Chromosome;
-use crate::optimize::{Budget, Checkpoint, SavedIndividual, SavedState};
+use crate::optimize::{Budget, Checkpoint, FNV1A_START, SavedIndividual, SavedState, fnv1a};
 use crate::output::{Row, write_json};
 
 /// How many individuals of a checkpoint's population (best first: the
@@ -46,7 +46,7 @@ impl SavedRun {
         unsealed["integrity"] = serde_json::Value::String(String::new());
         let text = serde_json::to_string(&unsealed)
             .map_err(|e| CliError::msg(format!("cannot encode the checkpoint: {e}")))?;
-        Ok(format!("{:016x}", fnv(FNV_START, text.as_bytes())))
+        Ok(format!("{:016x}", fnv1a(FNV1A_START, text.as_bytes())))
     }
 
     /// Writes the checkpoint atomically (the previous one stays intact

@@ -499,15 +499,5 @@ pub fn check_regular_file(path: &Path) -> Result<(), String> {
     }
 }
 
-/// FNV-1a over `bytes`, continuing from `hash` (start with [`FNV_START`]).
-pub(crate) fn fnv(hash: u64, bytes: &[u8]) -> u64 {
-    bytes.iter().fold(hash, |h, &b| {
-        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
-    })
-}
-
-/// The FNV-1a offset basis.
-pub(crate) const FNV_START: u64 = 0xcbf2_9ce4_8422_2325;
-
 #[cfg(test)]
 mod tests;

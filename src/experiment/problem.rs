@@ -4,13 +4,14 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{ExperimentError, FNV_START, MethodParams, fnv};
+use super::{ExperimentError, MethodParams};
 use crate::express::{Generator, Instance, ShapeId};
 use crate::genome::Chromosome;
 use crate::glam::Affine3A;
 use crate::graph::Graph;
 use crate::optimize::{
-    Budget, Checkpoint, Fitness, Ga, Observer, OptimizeError, Optimizer, Rjmcmc, RunResult, Smc,
+    Budget, Checkpoint, FNV1A_START, Fitness, Ga, Observer, OptimizeError, Optimizer, Rjmcmc,
+    RunResult, Smc, fnv1a,
 };
 use crate::score::files::write_atomically;
 use crate::score::obj::write_obj;
@@ -123,15 +124,15 @@ impl SceneOutputs for VolumeScene {
     }
 
     fn fingerprint(&self) -> u64 {
-        let mut h = fnv(
-            FNV_START,
+        let mut h = fnv1a(
+            FNV1A_START,
             format!("{:?} {:?}", self.grid(), self.outside_count()).as_bytes(),
         );
         for w in self.weights() {
-            h = fnv(h, &w.to_bits().to_le_bytes());
+            h = fnv1a(h, &w.to_bits().to_le_bytes());
         }
         for i in 0..self.grid().len() {
-            h = fnv(h, &[u8::from(self.is_target(i))]);
+            h = fnv1a(h, &[u8::from(self.is_target(i))]);
         }
         h
     }
@@ -179,11 +180,11 @@ impl SceneOutputs for ImageTargets {
     }
 
     fn fingerprint(&self) -> u64 {
-        let mut h = FNV_START;
+        let mut h = FNV1A_START;
         for t in self.targets() {
-            h = fnv(h, format!("{:?}", t.camera).as_bytes());
+            h = fnv1a(h, format!("{:?}", t.camera).as_bytes());
             for w in &t.weights {
-                h = fnv(h, &w.to_bits().to_le_bytes());
+                h = fnv1a(h, &w.to_bits().to_le_bytes());
             }
         }
         h
@@ -289,18 +290,18 @@ where
 
     fn fingerprint(&self) -> Vec<(&'static str, u64)> {
         let meshes = self.fitness.meshes();
-        let mut shapes = FNV_START;
+        let mut shapes = FNV1A_START;
         for i in 0..meshes.len() {
             let m = meshes.mesh(i as u16);
-            shapes = fnv(shapes, meshes.name(i as u16).as_bytes());
+            shapes = fnv1a(shapes, meshes.name(i as u16).as_bytes());
             for p in &m.positions {
                 for c in p.to_array() {
-                    shapes = fnv(shapes, &c.to_bits().to_le_bytes());
+                    shapes = fnv1a(shapes, &c.to_bits().to_le_bytes());
                 }
             }
             for t in &m.triangles {
                 for v in t {
-                    shapes = fnv(shapes, &v.to_le_bytes());
+                    shapes = fnv1a(shapes, &v.to_le_bytes());
                 }
             }
         }
@@ -308,14 +309,14 @@ where
         vec![
             (
                 "generator and limits",
-                fnv(FNV_START, format!("{:?}", self.graph.spec()).as_bytes()),
+                fnv1a(FNV1A_START, format!("{:?}", self.graph.spec()).as_bytes()),
             ),
             ("shape meshes", shapes),
             (
                 "targets, grid and cameras",
                 self.fitness.scene().fingerprint(),
             ),
-            ("score and weights", fnv(FNV_START, score.as_bytes())),
+            ("score and weights", fnv1a(FNV1A_START, score.as_bytes())),
         ]
     }
 }

@@ -188,11 +188,20 @@ impl<'g> RunId<'g> {
 /// A stable fingerprint of optimizer parameters (FNV-1a over their `Debug`
 /// form, which prints every `f64` exactly).
 pub(crate) fn params_fingerprint(params: &impl std::fmt::Debug) -> u64 {
-    format!("{params:?}")
-        .bytes()
-        .fold(0xcbf2_9ce4_8422_2325, |h, b| {
-            (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
-        })
+    fnv1a(FNV1A_START, format!("{params:?}").as_bytes())
+}
+
+/// The FNV-1a offset basis: where [`fnv1a`] starts.
+pub const FNV1A_START: u64 = 0xcbf2_9ce4_8422_2325;
+
+/// 64-bit FNV-1a of `bytes`, continuing from `hash` (start with
+/// [`FNV1A_START`]): the stable hash of checkpoint fingerprints, the same
+/// on every platform and release.
+#[must_use]
+pub fn fnv1a(hash: u64, bytes: &[u8]) -> u64 {
+    bytes.iter().fold(hash, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    })
 }
 
 #[cfg(test)]

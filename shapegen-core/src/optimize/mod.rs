@@ -25,7 +25,9 @@ mod smc;
 use std::time::Duration;
 
 pub use budget::{Budget, StopReason};
-pub use checkpoint::{CHECKPOINT_VERSION, Checkpoint, SavedIndividual, SavedParticle, SavedState};
+pub use checkpoint::{
+    CHECKPOINT_VERSION, Checkpoint, FNV1A_START, SavedIndividual, SavedParticle, SavedState, fnv1a,
+};
 pub use fitness::{Fitness, FnFitness, is_valid_score};
 pub use ga::{Ga, GaParams};
 pub use observer::{GenerationStats, Interruptible, NoObserver, Observer};
