@@ -202,14 +202,12 @@ impl Cli {
 
 /// A `--seconds` value as a duration (finite, > 0, at most a century).
 fn seconds(s: f64) -> Result<std::time::Duration, CliError> {
-    const CENTURY: f64 = 100.0 * 365.25 * 86_400.0;
-    if s > 0.0 && s <= CENTURY {
-        Ok(std::time::Duration::from_secs_f64(s))
-    } else {
-        Err(CliError::msg(format!(
-            "--seconds must be > 0 and at most {CENTURY:.0} (a century), got {s}"
-        )))
-    }
+    crate::optimize::Budget::seconds(s).ok_or_else(|| {
+        CliError::msg(format!(
+            "--seconds must be > 0 and at most {:.0} (a century), got {s}",
+            crate::optimize::Budget::MAX_SECONDS
+        ))
+    })
 }
 
 /// A rayon pool with `threads` workers (default: all cores).

@@ -23,6 +23,18 @@ pub struct Budget {
 }
 
 impl Budget {
+    /// The longest wall-clock budget, in seconds: a century (a longer one
+    /// is a mistake, and would overflow `Duration` and `Instant`).
+    pub const MAX_SECONDS: f64 = 100.0 * 365.25 * 86_400.0;
+
+    /// `seconds` as a wall-clock duration, if it is in `(0, MAX_SECONDS]`
+    /// (NaN is not).
+    #[must_use]
+    pub fn seconds(seconds: f64) -> Option<std::time::Duration> {
+        (seconds > 0.0 && seconds <= Self::MAX_SECONDS)
+            .then(|| std::time::Duration::from_secs_f64(seconds))
+    }
+
     /// Stop after `n` generations.
     #[must_use]
     pub const fn generations(n: u64) -> Self {

@@ -3,7 +3,6 @@
 //! the preset's value.
 
 use std::collections::BTreeMap;
-use std::time::Duration;
 
 use toml::Spanned;
 
@@ -68,15 +67,17 @@ pub(super) fn budget(
     let f = b.get_ref();
     let mut out = Budget::default();
     if let Some(s) = f.seconds {
-        const CENTURY: f64 = 100.0 * 365.25 * 86_400.0;
-        if !(s > 0.0 && s <= CENTURY) {
+        let Some(t) = Budget::seconds(s) else {
             return Err(ctx.err(
                 key,
                 b,
-                format!("seconds must be > 0 and at most {CENTURY:.0} (a century), got {s}"),
+                format!(
+                    "seconds must be > 0 and at most {:.0} (a century), got {s}",
+                    Budget::MAX_SECONDS
+                ),
             ));
-        }
-        out.wall_time = Some(Duration::from_secs_f64(s));
+        };
+        out.wall_time = Some(t);
     }
     if f.generations == Some(0) {
         return Err(ctx.err(key, b, "generations must be at least 1"));
