@@ -114,12 +114,9 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
             .iter()
             .map(|n| args.out.join(n))
             .collect();
+    let run_files = output::run_files(&experiment);
     for m in &args.methods {
-        outputs.extend(
-            output::run_files(&experiment)
-                .iter()
-                .map(|n| args.out.join(m.name()).join(n)),
-        );
+        outputs.extend(run_files.iter().map(|n| args.out.join(m.name()).join(n)));
     }
     guard::refuse_overwriting_inputs(&outputs, experiment.inputs())?;
     for w in experiment.warnings() {
@@ -313,8 +310,6 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
             },
         );
         let dir = out.join(method.name());
-        std::fs::create_dir_all(&dir)
-            .map_err(|e| CliError::msg(format!("cannot create {}: {e}", dir.display())))?;
         experiment.write_model(&best_run.result.best, &dir)?;
         output::write_chromosome(&dir.join("best.json"), &experiment, &best_run.result.best)?;
     }

@@ -89,11 +89,13 @@ pub(super) fn run(cli: &Cli, args: &RunArgs) -> Result<(), CliError> {
     // The latest generation's checkpoint, unwritten (with the curve's length
     // then): written when Ctrl-C stops the run in the middle of the next.
     let mut pending: Option<(crate::optimize::Checkpoint, usize)> = None;
+    // Computed once: it hashes every target cell and mesh vertex.
+    let fingerprint = experiment.fingerprint();
     let seal = |checkpoint, curve: &[Row]| SavedRun {
         experiment: experiment.name().to_string(),
         method: method.name().to_string(),
         budget,
-        fingerprint: experiment.fingerprint(),
+        fingerprint: fingerprint.clone(),
         curve: curve.to_vec(),
         checkpoint,
         integrity: String::new(),
@@ -219,7 +221,7 @@ fn check_outputs(
         guard::refuse_overwriting_inputs(std::slice::from_ref(cp), &inputs)?;
     }
     inputs.extend(args.resume.iter().cloned());
-    let mut outputs: Vec<PathBuf> = output::run_files(experiment)
+    let outputs: Vec<PathBuf> = output::run_files(experiment)
         .iter()
         .map(|n| args.out.join(n))
         .collect();
@@ -227,7 +229,6 @@ fn check_outputs(
         // The result files must not replace the checkpoint either.
         guard::refuse_overwriting_inputs(&outputs, std::slice::from_ref(cp))?;
     }
-    outputs.dedup();
     guard::refuse_overwriting_inputs(&outputs, &inputs)
 }
 

@@ -1,5 +1,5 @@
 //! `[image]`: image targets (PNG with a mask rule, or signed PFM weights),
-//! each with the paper's orbit camera.
+//! each with the paper's orbit camera or a right-handed look-at camera.
 
 use toml::Spanned;
 
