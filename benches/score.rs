@@ -19,7 +19,7 @@ use shapegen::glam::{UVec3, Vec3};
 use shapegen::optimize::{ScratchPool, evaluate_all};
 use shapegen::prelude::*;
 use shapegen::rng::stream;
-use shapegen::scenes::{Spaceship, TreeV2};
+use shapegen::scenes::{Spaceship, TreeV1, TreeV2};
 use shapegen::score::camera::Camera;
 use shapegen::score::image::ImageTarget;
 use shapegen::score::obj::ShapeMeshes;
@@ -123,6 +123,47 @@ fn tree_sketch_fitness(leaf: &str) -> Option<ImageFitness<TreeV2>> {
     .map(|f| f.with_limits(limits))
 }
 
+/// Tree v1 with the paper's trunk and the low-poly leaf in a volume scene over
+/// `[−5, 5]³` at `n³`: paper Fig. 9a (avoid `tree_avoid_2.obj`, 150³,
+/// −120 / −1 / 0.001) or filling `target_tree.obj` (100³, 2 / 15 / 0.001).
+fn tree_volume_fitness(target: &str, n: u32, good: f64, bad: f64) -> Option<VolumeFitness<TreeV1>> {
+    let grid = Grid::cube(Vec3::splat(-5.0), Vec3::splat(5.0), n).ok()?;
+    let scene = VolumeScene::new(
+        grid,
+        &[VolumeTarget {
+            name: target.into(),
+            mesh: Mesh::load_obj(&data(target)?).ok()?,
+            fill: 1.0,
+            outside: 0.0,
+            inside: Default::default(),
+        }],
+    )
+    .ok()?;
+    let mut shapes = ShapeMeshes::builtin(&TreeV1).ok()?;
+    shapes
+        .set(
+            "leaf",
+            Mesh::load_obj(&data("paper/leaf_low_poly.obj")?)
+                .ok()?
+                .normalized(),
+        )
+        .ok()?;
+    let score = VolumeScore::Normalized {
+        w_good: good,
+        w_bad: bad,
+        w_length: 0.001,
+        separate_overlap: None,
+    };
+    let limits = Limits {
+        max_depth: Some(8),
+        min_len: 4,
+        max_len: Some(300),
+    };
+    VolumeFitness::new(TreeV1, scene, &shapes, score)
+        .ok()
+        .map(|f| f.with_limits(limits))
+}
+
 fn bench_score(c: &mut Criterion) {
     if let Some(fitness) = spaceship_fitness() {
         let mut rng = stream(3, &[]);
@@ -176,6 +217,41 @@ fn bench_score(c: &mut Criterion) {
             })
             .collect();
         let mut group = c.benchmark_group("score/tree_sketch");
+        group.throughput(Throughput::Elements(trees.len() as u64));
+        let mut scratch = fitness.scratch();
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                trees
+                    .iter()
+                    .map(|t| fitness.evaluate(t, &mut scratch))
+                    .sum::<f64>()
+            })
+        });
+        group.finish();
+    }
+
+    // Trees in volumes: ~100 leaves a tree, each a small open non-convex mesh.
+    for (name, target, n, good, bad) in [
+        (
+            "avoid_50_trees_150",
+            "paper/tree_avoid_2.obj",
+            150,
+            -120.0,
+            -1.0,
+        ),
+        ("fill_50_trees_100", "paper/target_tree.obj", 100, 2.0, 15.0),
+    ] {
+        let Some(fitness) = tree_volume_fitness(target, n, good, bad) else {
+            continue;
+        };
+        let mut rng = stream(5, &[]);
+        let trees: Vec<Chromosome> = (0..50)
+            .map(|_| {
+                random_individual(TreeV1.graph(), &InitLength::Around { l0: 150 }, &mut rng)
+                    .unwrap()
+            })
+            .collect();
+        let mut group = c.benchmark_group("score/tree_volume");
         group.throughput(Throughput::Elements(trees.len() as u64));
         let mut scratch = fitness.scratch();
         group.bench_function(name, |b| {
