@@ -1,22 +1,19 @@
-//! Solids: meshes ready for inside tests along lines.
+//! Solids: meshes ready for inside tests along the lattice's rows.
 //!
-//! A [`Solid`] answers one question: where does a line enter and leave the
-//! mesh? Convex meshes (the unit cube, frusta) answer analytically from
-//! their face planes; any other mesh collects its crossings through a BVH.
-//! Both use `f64` and the same tie rule: a point is inside iff an odd number
-//! of crossings lie at or before it along the line (spans are half-open, `[a, b)`).
+//! A [`Solid`] answers one question: where does a row line enter and leave
+//! the mesh? Convex meshes (the unit cube, frusta) answer analytically from
+//! their face planes; any other mesh is a [`MeshSolid`], whose placed
+//! triangles ([`RowTri`]) are rasterized onto the rows they cross (see
+//! [`voxelize`](crate::voxelize)). Both use `f64` and the same tie rule: a
+//! point is inside iff an odd number of crossings lie at or before it along
+//! the row (spans are half-open, `[a, b)`).
 //!
 //! A mesh with holes has no inside by parity; [`Inside::WindingNumber`]
 //! decides by the generalized winding number instead (see [`Inside`]).
 
 use std::collections::HashMap;
-use std::time::Duration;
 
-use glam::{DVec3, Vec3A};
-use obvhs::aabb::Aabb;
-use obvhs::bvh2::Bvh2;
-use obvhs::ray::Ray;
-use obvhs::{Boundable, BvhBuildParams};
+use glam::DVec3;
 
 use crate::error::ScoreError;
 use crate::mesh::Mesh;
@@ -26,7 +23,7 @@ use crate::mesh::Mesh;
 pub enum Solid {
     /// A convex mesh, as the intersection of its face half-spaces.
     Convex(Convex),
-    /// Any other mesh, queried through a BVH.
+    /// Any other mesh, rasterized triangle by triangle onto the rows.
     Mesh(MeshSolid),
 }
 
@@ -49,8 +46,8 @@ pub enum Inside {
 }
 
 impl Solid {
-    /// A solid for `mesh` (named `name` in errors): convex if it is, else
-    /// BVH-backed; inside by ray parity.
+    /// A solid for `mesh` (named `name` in errors): convex if it is, else a
+    /// [`MeshSolid`]; inside by ray parity.
     pub fn new(name: &str, mesh: &Mesh) -> Result<Self, ScoreError> {
         Self::with_inside(name, mesh, Inside::Parity)
     }
@@ -75,24 +72,6 @@ impl Solid {
         match self {
             Self::Convex(c) => c.bounds,
             Self::Mesh(m) => m.bounds,
-        }
-    }
-
-    /// Appends to `out` the line parameters `t` (sorted) at which the line
-    /// `o + t v`, `t ∈ [0, len]`, crosses the surface; a point is inside iff
-    /// an odd number of crossings lie at or before it.
-    pub fn crossings(&self, o: DVec3, v: DVec3, len: f64, out: &mut Vec<f64>) {
-        match self {
-            Self::Convex(c) => {
-                if let Some((a, b)) = c.clip(o, v) {
-                    let (a, b) = (a.max(0.0), b.min(len));
-                    if a < b {
-                        out.push(a);
-                        out.push(b);
-                    }
-                }
-            }
-            Self::Mesh(m) => m.crossings(o, v, len, out),
         }
     }
 }
@@ -209,25 +188,14 @@ impl Convex {
     }
 }
 
-/// One triangle of a [`MeshSolid`], with a slightly padded box for the BVH.
-#[derive(Clone, Copy, Debug)]
-struct Tri {
-    v: [DVec3; 3],
-    aabb: Aabb,
-}
-
-impl Boundable for Tri {
-    fn aabb(&self) -> Aabb {
-        self.aabb
-    }
-}
-
-/// An arbitrary mesh queried through a bottom-level BVH (built once).
-#[derive(Clone)]
+/// An arbitrary mesh: its triangles, placed and rasterized onto the lattice
+/// rows of each instance (no acceleration structure to build or walk).
+#[derive(Clone, Debug)]
 pub struct MeshSolid {
-    /// Triangles in BVH order (so leaves index them directly).
-    tris: Vec<Tri>,
-    bvh: Bvh2,
+    /// Distinct vertex positions (welded by exact position), local frame.
+    positions: Vec<DVec3>,
+    /// Triangles indexing `positions`.
+    triangles: Vec<[u32; 3]>,
     bounds: (DVec3, DVec3),
     boundary_edges: usize,
     /// Present in [`Inside::WindingNumber`] mode.
@@ -236,28 +204,56 @@ pub struct MeshSolid {
 
 /// What the winding-number inside test needs beyond the mesh.
 ///
-/// The mesh `M` minus the cone `K` from one apex over its boundary chain is
-/// closed (`∂K = ∂M`), so its winding number is the signed count of a
-/// line's crossings before the point; hence `w_M = w_{M−K} + w_K`, where
-/// `w_K` sums one solid angle per boundary edge. The cone is stored
-/// reversed (`−K`), so that `M` and `−K` together are a consistently
-/// oriented closed surface for the crossing tie rule.
+/// The mesh `M` minus a cone `K` over its boundary chain is closed
+/// (`∂K = ∂M`), so its winding number is the signed count of a line's
+/// crossings before the point; hence `w_M = w_{M−K} + w_K`, where `w_K` sums
+/// one solid angle per boundary edge. Each connected loop of the chain gets
+/// its own cone, from the mean of its vertices, so that a cone stays as small
+/// as its hole. The cones are stored reversed (`−K`), so that `M` and `−K`
+/// together are a consistently oriented closed surface for the crossing tie
+/// rule.
 #[derive(Clone, Debug)]
 pub struct Winding {
-    /// Triangles `(apex, b, a)` for every boundary edge `a → b`.
+    /// Triangles `(apex, b, a)` for every boundary edge `a → b`, grouped by loop.
     reversed_cone: Vec<[DVec3; 3]>,
 }
 
 impl Winding {
     fn new(mesh: &Mesh, chain: &[[u32; 2]]) -> Self {
         let p = |i: u32| mesh.positions[i as usize].as_dvec3();
-        let apex = chain.iter().map(|e| p(e[0])).sum::<DVec3>() / chain.len().max(1) as f64;
-        Self {
-            reversed_cone: chain.iter().map(|&[a, b]| [apex, p(b), p(a)]).collect(),
+        // Connected loops of the chain (union-find over its vertices).
+        let mut parent: HashMap<u32, u32> = HashMap::new();
+        fn root(parent: &mut HashMap<u32, u32>, v: u32) -> u32 {
+            let mut r = v;
+            while let Some(&q) = parent.get(&r)
+                && q != r
+            {
+                r = q;
+            }
+            parent.insert(v, r);
+            r
         }
+        for &[a, b] in chain {
+            parent.entry(a).or_insert(a);
+            parent.entry(b).or_insert(b);
+            let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+            if ra != rb {
+                parent.insert(ra.max(rb), ra.min(rb));
+            }
+        }
+        let mut loops: std::collections::BTreeMap<u32, Vec<[u32; 2]>> = Default::default();
+        for &e in chain {
+            loops.entry(root(&mut parent, e[0])).or_default().push(e);
+        }
+        let mut reversed_cone = Vec::with_capacity(chain.len());
+        for edges in loops.values() {
+            let apex = edges.iter().map(|e| p(e[0])).sum::<DVec3>() / edges.len() as f64;
+            reversed_cone.extend(edges.iter().map(|&[a, b]| [apex, p(b), p(a)]));
+        }
+        Self { reversed_cone }
     }
 
-    /// The reversed cone's triangles, in the mesh's local frame.
+    /// The reversed cones' triangles, in the mesh's local frame.
     #[must_use]
     pub fn reversed_cone(&self) -> &[[DVec3; 3]] {
         &self.reversed_cone
@@ -276,57 +272,17 @@ pub fn solid_angle(t: &[DVec3; 3], p: DVec3) -> f64 {
     2.0 * det.atan2(den)
 }
 
-impl std::fmt::Debug for MeshSolid {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("MeshSolid")
-            .field("triangles", &self.tris.len())
-            .field("bvh_nodes", &self.bvh.nodes.len())
-            .field("bounds", &self.bounds)
-            .field("boundary_edges", &self.boundary_edges)
-            .field(
-                "winding_cone",
-                &self.winding.as_ref().map(|w| w.reversed_cone.len()),
-            )
-            .finish()
-    }
-}
-
 impl MeshSolid {
-    /// Builds the BVH of `mesh` (which [`Solid::new`] has checked).
+    /// The mesh, with vertices welded by exact position (which
+    /// [`Solid::new`] has checked).
     #[must_use]
     pub fn new(mesh: &Mesh) -> Self {
-        let pts: Vec<DVec3> = mesh.positions.iter().map(|p| p.as_dvec3()).collect();
-        let bounds = bounds(&pts);
-        // Pad boxes so that f32 ray/box tests never drop a triangle the exact test would hit.
-        let pad = 1e-5 * (bounds.1 - bounds.0).max_element().max(1e-6);
-        let tris: Vec<Tri> = mesh
-            .triangles
-            .iter()
-            .map(|t| {
-                let v = t.map(|i| pts[i as usize]);
-                let lo = v[0].min(v[1]).min(v[2]) - pad;
-                let hi = v[0].max(v[1]).max(v[2]) + pad;
-                Tri {
-                    v,
-                    aabb: Aabb::new(Vec3A::from(lo.as_vec3()), Vec3A::from(hi.as_vec3())),
-                }
-            })
-            .collect();
-        let mut build_time = Duration::ZERO;
-        let bvh = obvhs::bvh2::builder::build_bvh2(
-            &tris,
-            BvhBuildParams::medium_build(),
-            &mut build_time,
-        );
-        let tris = bvh
-            .primitive_indices
-            .iter()
-            .map(|&i| tris[i as usize])
-            .collect();
+        let welded = mesh.with_welded_vertices();
+        let positions: Vec<DVec3> = welded.positions.iter().map(|p| p.as_dvec3()).collect();
         Self {
-            tris,
-            bvh,
-            bounds,
+            bounds: bounds(&positions),
+            positions,
+            triangles: welded.triangles,
             boundary_edges: boundary_edges(mesh),
             winding: None,
         }
@@ -338,43 +294,23 @@ impl MeshSolid {
         self.winding.as_ref()
     }
 
+    /// The distinct vertex positions, in the local frame.
+    #[must_use]
+    pub fn positions(&self) -> &[DVec3] {
+        &self.positions
+    }
+
+    /// The triangles, as indices into [`positions`](Self::positions).
+    #[must_use]
+    pub fn triangle_indices(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+
     /// The triangles, in the local frame.
-    pub fn triangles(&self) -> impl ExactSizeIterator<Item = &[DVec3; 3]> {
-        self.tris.iter().map(|t| &t.v)
-    }
-
-    /// Appends `(t, s)` for every crossing of the line `o + t v`,
-    /// `t ∈ [0, len]`, with the mesh and (in winding-number mode) its
-    /// reversed boundary cone, sorted by `t`; `s = ±1` is the sign of `v`
-    /// along the crossed triangle's normal (+1 leaving an outward surface).
-    pub fn signed_crossings(&self, o: DVec3, v: DVec3, len: f64, out: &mut Vec<(f64, f64)>) {
-        let start = out.len();
-        let sign = |t: &[DVec3; 3]| v.dot((t[1] - t[0]).cross(t[2] - t[0])).signum();
-        let ray = self.ray(o, v, len);
-        self.bvh.ray_traverse_anyhit(ray, |_, id| {
-            let tri = &self.tris[id].v;
-            if let Some(t) = cross(tri, o, v) {
-                out.push((t, sign(tri)));
-            }
-        });
-        if let Some(w) = &self.winding {
-            for tri in &w.reversed_cone {
-                if let Some(t) = cross(tri, o, v) {
-                    out.push((t, sign(tri)));
-                }
-            }
-        }
-        out[start..].sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
-    }
-
-    fn ray(&self, o: DVec3, v: DVec3, len: f64) -> Ray {
-        let margin = 1e-3 * len.max(1.0);
-        Ray::new(
-            Vec3A::from(o.as_vec3()),
-            Vec3A::from(v.as_vec3()),
-            -margin as f32,
-            (len + margin) as f32,
-        )
+    pub fn triangles(&self) -> impl ExactSizeIterator<Item = [DVec3; 3]> + '_ {
+        self.triangles
+            .iter()
+            .map(|t| t.map(|i| self.positions[i as usize]))
     }
 
     /// Edges used by exactly one triangle after welding vertices by position:
@@ -383,28 +319,92 @@ impl MeshSolid {
     pub fn boundary_edges(&self) -> usize {
         self.boundary_edges
     }
+}
 
-    /// See [`Solid::crossings`].
-    pub fn crossings(&self, o: DVec3, v: DVec3, len: f64, out: &mut Vec<f64>) {
-        let start = out.len();
-        let ray = self.ray(o, v, len);
-        self.bvh.ray_traverse_anyhit(ray, |_, id| {
-            if let Some(t) = cross(&self.tris[id].v, o, v) {
-                out.push(t);
+/// A triangle in the world frame, prepared for the lattice's row lines
+/// (lines along +x through cell centres `(y, z)`).
+///
+/// Whether a row line passes through the triangle is decided by the signs of
+/// the three edge functions of its projection onto the yz plane, each
+/// computed with a canonical order of the edge's endpoints (lexicographic in
+/// x, y, z), so the two triangles sharing an edge see exactly opposite signs
+/// and a line through an edge or vertex is counted by exactly one of the
+/// triangles around it (a consistent tie rule). A triangle parallel to the
+/// rows is crossed by none.
+#[derive(Clone, Copy, Debug)]
+pub struct RowTri {
+    /// Per edge: its endpoints' `(y, z)` in canonical order, and whether that
+    /// order runs against the triangle's.
+    edges: [([f64; 2], [f64; 2], bool); 3],
+    a: DVec3,
+    /// `(b − a) × (c − a)`.
+    n: DVec3,
+    /// The projection's bounds: `(y_lo, y_hi, z_lo, z_hi)`.
+    yz: [f64; 4],
+}
+
+impl RowTri {
+    /// Prepares the world triangle `v`.
+    #[must_use]
+    pub fn new(v: [DVec3; 3]) -> Self {
+        let edge = |p: DVec3, q: DVec3| {
+            if (p.x, p.y, p.z) < (q.x, q.y, q.z) {
+                ([p.y, p.z], [q.y, q.z], false)
+            } else {
+                ([q.y, q.z], [p.y, p.z], true)
             }
-        });
-        out[start..].sort_unstable_by(f64::total_cmp);
+        };
+        let [a, b, c] = v;
+        Self {
+            edges: [edge(a, b), edge(b, c), edge(c, a)],
+            a,
+            n: (b - a).cross(c - a),
+            yz: [
+                a.y.min(b.y).min(c.y),
+                a.y.max(b.y).max(c.y),
+                a.z.min(b.z).min(c.z),
+                a.z.max(b.z).max(c.z),
+            ],
+        }
     }
 
-    /// The same crossings by testing every triangle (the reference for tests).
-    pub fn crossings_brute_force(&self, o: DVec3, v: DVec3, out: &mut Vec<f64>) {
-        let start = out.len();
-        out.extend(self.tris.iter().filter_map(|t| cross(&t.v, o, v)));
-        out[start..].sort_unstable_by(f64::total_cmp);
+    /// The projection's bounds `(y_lo, y_hi, z_lo, z_hi)`.
+    #[must_use]
+    pub fn yz_bounds(&self) -> [f64; 4] {
+        self.yz
+    }
+
+    /// Whether the triangle is parallel to the rows (no row crosses it).
+    #[must_use]
+    pub fn parallel(&self) -> bool {
+        self.n.x == 0.0
+    }
+
+    /// `+1` if a line along +x leaves the triangle's front side (the side
+    /// its counter-clockwise normal points to) where it crosses, else `−1`.
+    #[must_use]
+    pub fn sign(&self) -> f64 {
+        self.n.x.signum()
+    }
+
+    /// The x where the row line through `(y, z)` crosses the triangle, if it does.
+    #[inline]
+    #[must_use]
+    pub fn cross(&self, y: f64, z: f64) -> Option<f64> {
+        let side = |(p, q, flip): ([f64; 2], [f64; 2], bool)| {
+            ((p[0] - y) * (q[1] - z) - (p[1] - z) * (q[0] - y) >= 0.0) != flip
+        };
+        let s = side(self.edges[0]);
+        if side(self.edges[1]) != s || side(self.edges[2]) != s || self.n.x == 0.0 {
+            return None;
+        }
+        Some(self.a.x - (self.n.y * (y - self.a.y) + self.n.z * (z - self.a.z)) / self.n.x)
     }
 }
 
-/// Where the line `o + t v` crosses triangle `tri`, if it does.
+/// Where the line `o + t v` crosses triangle `tri`, if it does: the same
+/// rule as [`RowTri::cross`] for any line (the image rasterizer's
+/// reference casts one per pixel).
 ///
 /// The sides of the three edges are Plücker signs computed with a canonical
 /// order of each edge's endpoints, so the two triangles sharing an edge see

@@ -59,10 +59,10 @@ proptest! {
         }
     }
 
-    /// The BVH path on the cube mesh equals the parity reference, and the
+    /// The scanline path on the cube mesh equals the parity reference, and the
     /// analytic convex path except at ties.
     #[test]
-    fn bvh_spans_are_exact_on_the_cube(t in placement(0.2..2.5, Vec3::splat(-2.5), Vec3::splat(2.5))) {
+    fn mesh_spans_are_exact_on_the_cube(t in placement(0.2..2.5, Vec3::splat(-2.5), Vec3::splat(2.5))) {
         let cube = Mesh::unit_cube();
         let bvh = Solid::Mesh(MeshSolid::new(&cube));
         let g = grid();
@@ -71,7 +71,7 @@ proptest! {
         prop_assert_eq!(&spans, &parity);
         let convex = cells(&g, &Solid::new("cube", &cube).unwrap(), &t);
         let differ = spans.symmetric_difference(&convex).count();
-        prop_assert!(differ <= 2, "{} cells differ between the BVH and the analytic cube", differ);
+        prop_assert!(differ <= 2, "{} cells differ between the scanline and the analytic cube", differ);
     }
 }
 
@@ -80,7 +80,7 @@ proptest! {
 
     /// A real watertight mesh from `../shared/data/models/`.
     #[test]
-    fn bvh_spans_are_exact_on_a_real_mesh(t in placement(0.2..2.5, Vec3::splat(-2.5), Vec3::splat(2.5))) {
+    fn mesh_spans_are_exact_on_a_real_mesh(t in placement(0.2..2.5, Vec3::splat(-2.5), Vec3::splat(2.5))) {
         let Some(path) = shared("data/models/spot.obj") else {
             eprintln!("skipping: ../shared/data/models/spot.obj is not there");
             return Ok(());

@@ -1,0 +1,134 @@
+//! Mesh solids by scanline: every placed triangle is rasterized onto the
+//! lattice rows whose centre lines pierce it, each crossing becomes the first
+//! cell at or after it, and one sort of the packed `(row, cell)` keys gives
+//! every row's crossings in order. The cost is proportional to the
+//! triangles' row footprints plus the crossings, whatever the mesh's shape.
+
+use std::ops::Range;
+
+use glam::DAffine3;
+
+use super::{Span, Voxelizer};
+use crate::grid::Grid;
+use crate::solid::{MeshSolid, RowTri};
+
+/// The walkable part of the lattice (see [`Grid::walkable`]) and how a
+/// crossing of one of its rows packs into a sortable `u64`: row (z-major)
+/// in the high 32 bits, then the cell, then the crossing's sign.
+#[derive(Clone, Debug)]
+pub(super) struct RowKeys {
+    x: Range<i64>,
+    y: Range<i64>,
+    z: Range<i64>,
+}
+
+impl RowKeys {
+    pub(super) fn new(grid: &Grid) -> Self {
+        Self {
+            x: grid.walkable(0),
+            y: grid.walkable(1),
+            z: grid.walkable(2),
+        }
+    }
+
+    /// The key of row `(y, z)` (both walkable).
+    #[inline]
+    pub(super) fn row(&self, y: i64, z: i64) -> u64 {
+        ((z - self.z.start) as u64 * (self.y.end - self.y.start) as u64 + (y - self.y.start) as u64)
+            << 32
+    }
+
+    /// The row `(y, z)` of a key.
+    #[inline]
+    pub(super) fn row_of(&self, key: u64) -> (i64, i64) {
+        let row = (key >> 32) as i64;
+        let ny = self.y.end - self.y.start;
+        (self.y.start + row % ny, self.z.start + row / ny)
+    }
+
+    /// The cell of a key: the first (walkable) cell at or after its crossing.
+    #[inline]
+    pub(super) fn cell_of(&self, key: u64) -> i64 {
+        self.x.start + ((key & 0xffff_ffff) >> 1) as i64
+    }
+
+    /// The crossing's sign of a key: `+1` or `−1`.
+    #[inline]
+    pub(super) fn sign_of(key: u64) -> f64 {
+        if key & 1 == 1 { 1.0 } else { -1.0 }
+    }
+
+    /// Appends the key of every crossing of `t` with a walkable row.
+    pub(super) fn rasterize(&self, grid: &Grid, t: &RowTri, out: &mut Vec<u64>) {
+        if t.parallel() {
+            return;
+        }
+        let [y_lo, y_hi, z_lo, z_hi] = t.yz_bounds();
+        let ys = grid.clamp_walk(1, grid.centres_in(1, y_lo, y_hi));
+        let zs = grid.clamp_walk(2, grid.centres_in(2, z_lo, z_hi));
+        let sign = u64::from(t.sign() > 0.0);
+        for z in zs {
+            let cz = grid.center_along(2, z);
+            for y in ys.clone() {
+                if let Some(x) = t.cross(grid.center_along(1, y), cz) {
+                    let cell = grid.first_at_or_after(0, x).clamp(self.x.start, self.x.end);
+                    out.push(self.row(y, z) | ((cell - self.x.start) as u64) << 1 | sign);
+                }
+            }
+        }
+    }
+}
+
+impl Voxelizer {
+    /// Places the triangles of `m` (and `extra` local triangles, e.g. a
+    /// winding cone) in the world.
+    pub(super) fn place(&mut self, m: &MeshSolid, extra: &[[glam::DVec3; 3]], to_world: &DAffine3) {
+        self.world.clear();
+        self.world
+            .extend(m.positions().iter().map(|&p| to_world.transform_point3(p)));
+        self.tris.clear();
+        let world = &self.world;
+        self.tris.extend(
+            m.triangle_indices()
+                .iter()
+                .map(|t| RowTri::new(t.map(|i| world[i as usize]))),
+        );
+        self.tris.extend(
+            extra
+                .iter()
+                .map(|t| RowTri::new(t.map(|p| to_world.transform_point3(p)))),
+        );
+    }
+
+    /// Every placed triangle's crossings, as sorted keys in `self.keys`.
+    pub(super) fn cross_rows(&mut self, grid: &Grid, keys: &RowKeys) {
+        self.keys.clear();
+        for t in &self.tris {
+            keys.rasterize(grid, t, &mut self.keys);
+        }
+        self.keys.sort_unstable();
+    }
+
+    /// The spans of a mesh solid by parity: each row's sorted crossings in
+    /// pairs; an odd last one opens no span.
+    pub(super) fn mesh_spans(
+        &mut self,
+        grid: &Grid,
+        m: &MeshSolid,
+        to_world: &DAffine3,
+        mut f: impl FnMut(Span),
+    ) {
+        self.place(m, &[], to_world);
+        let keys = RowKeys::new(grid);
+        self.cross_rows(grid, &keys);
+        for row in self.keys.chunk_by(|a, b| a >> 32 == b >> 32) {
+            let (y, z) = keys.row_of(row[0]);
+            for pair in row.chunks_exact(2) {
+                let (x0, x1) = (keys.cell_of(pair[0]), keys.cell_of(pair[1]));
+                if x0 < x1 {
+                    f(Span { y, z, x0, x1 });
+                }
+            }
+        }
+    }
+}
