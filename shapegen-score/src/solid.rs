@@ -325,22 +325,50 @@ impl MeshSolid {
 /// (lines along +x through cell centres `(y, z)`).
 ///
 /// Whether a row line passes through the triangle is decided by the signs of
-/// the three edge functions of its projection onto the yz plane, each
-/// computed with a canonical order of the edge's endpoints (lexicographic in
-/// x, y, z), so the two triangles sharing an edge see exactly opposite signs
-/// and a line through an edge or vertex is counted by exactly one of the
-/// triangles around it (a consistent tie rule). A triangle parallel to the
-/// rows is crossed by none.
+/// the three edge functions of its projection onto the yz plane. Each is a
+/// fixed affine function of `(y, z)`, computed from a canonical order of the
+/// edge's endpoints (lexicographic in x, y, z), so the two triangles sharing
+/// an edge evaluate exactly opposite signs and a line through an edge or
+/// vertex is counted by exactly one of the triangles around it (a consistent
+/// tie rule). A triangle parallel to the rows is crossed by none.
 #[derive(Clone, Copy, Debug)]
 pub struct RowTri {
-    /// Per edge: its endpoints' `(y, z)` in canonical order, and whether that
-    /// order runs against the triangle's.
-    edges: [([f64; 2], [f64; 2], bool); 3],
-    a: DVec3,
-    /// `(b − a) × (c − a)`.
-    n: DVec3,
+    /// Per edge, on its canonical endpoints `p, q`:
+    /// `(p_y − y)(q_z − z) − (p_z − z)(q_y − y) = c0 + cz·z + cy·y`.
+    edges: [[f64; 3]; 3],
+    /// Per edge: whether the canonical order runs against the triangle's.
+    flips: [bool; 3],
+    /// The crossing's x on the triangle's plane: `x0 + xz·z + xy·y`.
+    plane: [f64; 3],
+    /// `(b − a) × (c − a)`, x component.
+    nx: f64,
     /// The projection's bounds: `(y_lo, y_hi, z_lo, z_hi)`.
     yz: [f64; 4],
+}
+
+/// A [`RowTri`] restricted to the row line at one `z`: what every row of
+/// that line needs, computed once.
+#[derive(Clone, Copy, Debug)]
+pub struct RowLine {
+    edges: [[f64; 2]; 3],
+    flips: [bool; 3],
+    plane: [f64; 2],
+    crossed: bool,
+}
+
+impl RowLine {
+    /// The x where the row line through `y` (at this line's `z`) crosses
+    /// the triangle, if it does.
+    #[inline]
+    #[must_use]
+    pub fn cross(&self, y: f64) -> Option<f64> {
+        let side = |k: usize| (self.edges[k][0] + self.edges[k][1] * y >= 0.0) != self.flips[k];
+        let s = side(0);
+        if side(1) != s || side(2) != s || !self.crossed {
+            return None;
+        }
+        Some(self.plane[0] + self.plane[1] * y)
+    }
 }
 
 impl RowTri {
@@ -348,17 +376,21 @@ impl RowTri {
     #[must_use]
     pub fn new(v: [DVec3; 3]) -> Self {
         let edge = |p: DVec3, q: DVec3| {
-            if (p.x, p.y, p.z) < (q.x, q.y, q.z) {
-                ([p.y, p.z], [q.y, q.z], false)
+            let (p, q, flip) = if (p.x, p.y, p.z) < (q.x, q.y, q.z) {
+                (p, q, false)
             } else {
-                ([q.y, q.z], [p.y, p.z], true)
-            }
+                (q, p, true)
+            };
+            ([p.y * q.z - p.z * q.y, q.y - p.y, p.z - q.z], flip)
         };
         let [a, b, c] = v;
+        let [(e0, f0), (e1, f1), (e2, f2)] = [edge(a, b), edge(b, c), edge(c, a)];
+        let n = (b - a).cross(c - a);
         Self {
-            edges: [edge(a, b), edge(b, c), edge(c, a)],
-            a,
-            n: (b - a).cross(c - a),
+            edges: [e0, e1, e2],
+            flips: [f0, f1, f2],
+            plane: [a.x + (n.y * a.y + n.z * a.z) / n.x, -n.z / n.x, -n.y / n.x],
+            nx: n.x,
             yz: [
                 a.y.min(b.y).min(c.y),
                 a.y.max(b.y).max(c.y),
@@ -377,28 +409,60 @@ impl RowTri {
     /// Whether the triangle is parallel to the rows (no row crosses it).
     #[must_use]
     pub fn parallel(&self) -> bool {
-        self.n.x == 0.0
+        self.nx == 0.0
     }
 
     /// `+1` if a line along +x leaves the triangle's front side (the side
     /// its counter-clockwise normal points to) where it crosses, else `−1`.
     #[must_use]
     pub fn sign(&self) -> f64 {
-        self.n.x.signum()
+        self.nx.signum()
     }
 
-    /// The x where the row line through `(y, z)` crosses the triangle, if it does.
+    /// The triangle on the row line at `z`.
+    #[inline]
+    #[must_use]
+    pub fn line(&self, z: f64) -> RowLine {
+        let e = |k: usize| [self.edges[k][0] + self.edges[k][1] * z, self.edges[k][2]];
+        RowLine {
+            edges: [e(0), e(1), e(2)],
+            flips: self.flips,
+            plane: [self.plane[0] + self.plane[1] * z, self.plane[2]],
+            crossed: self.nx != 0.0,
+        }
+    }
+
+    /// The y extent `(lo, hi)` of the projection's cross-section at `z`,
+    /// up to rounding (callers widen it), if the line meets it.
+    ///
+    /// `nx` is twice the projection's signed area, and a point is inside
+    /// where every edge function, taken in the triangle's own order, has its
+    /// sign; each edge thus keeps one side of its root along y.
+    #[must_use]
+    pub fn y_section(&self, z: f64) -> Option<(f64, f64)> {
+        let line = self.line(z);
+        let [mut lo, mut hi, ..] = self.yz;
+        let sigma = self.nx.signum();
+        for (e, &flip) in line.edges.iter().zip(&self.flips) {
+            let s = if flip { -sigma } else { sigma };
+            let (d, c) = (s * e[0], s * e[1]);
+            if c > 0.0 {
+                lo = lo.max(-d / c);
+            } else if c < 0.0 {
+                hi = hi.min(-d / c);
+            } else if d < 0.0 {
+                return None;
+            }
+        }
+        (lo <= hi).then_some((lo, hi))
+    }
+
+    /// The x where the row line through `(y, z)` crosses the triangle, if it
+    /// does: [`line`](Self::line)`(z).cross(y)`.
     #[inline]
     #[must_use]
     pub fn cross(&self, y: f64, z: f64) -> Option<f64> {
-        let side = |(p, q, flip): ([f64; 2], [f64; 2], bool)| {
-            ((p[0] - y) * (q[1] - z) - (p[1] - z) * (q[0] - y) >= 0.0) != flip
-        };
-        let s = side(self.edges[0]);
-        if side(self.edges[1]) != s || side(self.edges[2]) != s || self.n.x == 0.0 {
-            return None;
-        }
-        Some(self.a.x - (self.n.y * (y - self.a.y) + self.n.z * (z - self.a.z)) / self.n.x)
+        self.line(z).cross(y)
     }
 }
 

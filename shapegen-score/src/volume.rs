@@ -336,6 +336,29 @@ pub struct VolumeCounts {
     pub outside: u64,
 }
 
+/// Adds one instance's span to the hit counts and `counts`: branch-free per
+/// cell (instances overlap at random, so branches would mispredict), with
+/// the sums kept in registers for the span.
+#[inline]
+fn count_span(hits: &mut [u8], weight: &[f32], target: &[bool], counts: &mut VolumeCounts) {
+    let (mut w_sum, mut first, mut good, mut second, mut again) = (0.0f64, 0u64, 0u64, 0u64, 0u64);
+    for ((h, &w), &t) in hits.iter_mut().zip(weight).zip(target) {
+        let old = *h;
+        *h = old.saturating_add(1);
+        let is_first = u64::from(old == 0);
+        w_sum += if old == 0 { f64::from(w) } else { 0.0 };
+        first += is_first;
+        good += is_first & u64::from(t);
+        second += u64::from(old == 1);
+        again += u64::from(old != 0);
+    }
+    counts.weight += w_sum;
+    counts.good += good;
+    counts.bad += first - good;
+    counts.overlap_cells += second;
+    counts.overlap_hits += again;
+}
+
 /// Per-thread working memory of volume evaluations: hit counts per cell
 /// (all zero between evaluations), the runs to reset, and the voxelizer.
 #[derive(Clone, Debug)]
@@ -390,28 +413,12 @@ impl VolumeScratch {
             }
             let (a, b) = (cells.start, cells.end);
             touched.push((a as u32, (b - a) as u32));
-            let cells = hits[a..b]
-                .iter_mut()
-                .zip(&scene.weight[a..b])
-                .zip(&scene.target[a..b]);
-            for ((h, &w), &target) in cells {
-                *h = h.saturating_add(1);
-                match *h {
-                    1 => {
-                        counts.weight += f64::from(w);
-                        if target {
-                            counts.good += 1
-                        } else {
-                            counts.bad += 1
-                        }
-                    }
-                    2 => {
-                        counts.overlap_cells += 1;
-                        counts.overlap_hits += 1;
-                    }
-                    _ => counts.overlap_hits += 1,
-                }
-            }
+            count_span(
+                &mut hits[a..b],
+                &scene.weight[a..b],
+                &scene.target[a..b],
+                counts,
+            );
         });
     }
 

@@ -22,6 +22,11 @@ pub(super) struct RowKeys {
     z: Range<i64>,
 }
 
+/// Triangles up to this many rows wide along y test every row of their box
+/// (cheaper than a cross-section per row for the small triangles of most
+/// meshes).
+const SECTION_ROWS: i64 = 8;
+
 impl RowKeys {
     pub(super) fn new(grid: &Grid) -> Self {
         Self {
@@ -59,24 +64,65 @@ impl RowKeys {
     }
 
     /// Appends the key of every crossing of `t` with a walkable row.
+    ///
+    /// A triangle spanning more than [`SECTION_ROWS`] rows along y has,
+    /// per row along z, its projection's cross-section give the candidate
+    /// rows along y (one more on each side, against rounding); smaller ones
+    /// test their whole box. [`RowTri::cross`] decides each candidate
+    /// exactly, so the candidates only save work and never change a crossing.
     pub(super) fn rasterize(&self, grid: &Grid, t: &RowTri, out: &mut Vec<u64>) {
         if t.parallel() {
             return;
         }
         let [y_lo, y_hi, z_lo, z_hi] = t.yz_bounds();
-        let ys = grid.clamp_walk(1, grid.centres_in(1, y_lo, y_hi));
-        let zs = grid.clamp_walk(2, grid.centres_in(2, z_lo, z_hi));
+        let ys = rows_between(grid, 1, y_lo, y_hi);
+        let zs = rows_between(grid, 2, z_lo, z_hi);
+        if ys.is_empty() {
+            return;
+        }
         let sign = u64::from(t.sign() > 0.0);
         for z in zs {
             let cz = grid.center_along(2, z);
-            for y in ys.clone() {
-                if let Some(x) = t.cross(grid.center_along(1, y), cz) {
+            let ys = if ys.end - ys.start <= SECTION_ROWS {
+                ys.clone()
+            } else {
+                let Some((lo, hi)) = t.y_section(cz) else {
+                    continue;
+                };
+                // One more row on each side: the section's ends are rounded.
+                let r = rows_between(grid, 1, lo, hi);
+                let start = (r.start - 1).max(ys.start);
+                start..(r.end + 1).min(ys.end).max(start)
+            };
+            let line = t.line(cz);
+            for y in ys {
+                if let Some(x) = line.cross(grid.center_along(1, y)) {
                     let cell = grid.first_at_or_after(0, x).clamp(self.x.start, self.x.end);
                     out.push(self.row(y, z) | ((cell - self.x.start) as u64) << 1 | sign);
                 }
             }
         }
     }
+}
+
+/// The walkable rows along `axis` whose centres may lie in `[lo, hi]`: a
+/// superset by up to one row on each side, computed without the exact
+/// loops of [`Grid::centres_in`] (the crossing test is exact, so extra
+/// candidates change nothing but the work).
+#[inline]
+fn rows_between(grid: &Grid, axis: usize, lo: f64, hi: f64) -> Range<i64> {
+    let (min, cell) = (grid.min()[axis], grid.cell_size()[axis]);
+    let walk = grid.walkable(axis);
+    // Fractional row index: integers at the centres. Clamped before the
+    // conversion, so far or non-finite bounds cannot overflow.
+    let at = |v: f64| ((v - min) / cell - 0.5).clamp(walk.start as f64 - 1.0, walk.end as f64);
+    let first = (at(lo) - 1e-6).ceil();
+    let last = (at(hi) + 1e-6).floor();
+    if !(first <= last) {
+        return 0..0;
+    }
+    let start = (first as i64).max(walk.start);
+    start..(last as i64 + 1).min(walk.end).max(start)
 }
 
 impl Voxelizer {
