@@ -25,7 +25,7 @@ use shapegen::score::image::ImageTarget;
 use shapegen::score::obj::ShapeMeshes;
 use shapegen::score::score::{ImageFitness, ImageScore, ImageTargets, VolumeFitness, VolumeScore};
 use shapegen::score::volume::{VolumeScene, VolumeTarget};
-use shapegen::score::{Grid, Mesh};
+use shapegen::score::{Grid, Inside, Mesh};
 
 fn data(rel: &str) -> Option<PathBuf> {
     let root = std::env::var_os("SHAPEGEN_DATA")
@@ -270,18 +270,23 @@ fn bench_score(c: &mut Criterion) {
         let grid = Grid::cube(Vec3::splat(-0.5), Vec3::splat(0.5), 128).unwrap();
         let mut group = c.benchmark_group("score/voxelize");
         group.sample_size(10);
-        group.bench_function("stanford_bunny_128", |b| {
-            b.iter(|| {
-                let target = VolumeTarget {
-                    name: "bunny".into(),
-                    mesh: bunny.clone(),
-                    fill: 1.0,
-                    outside: 0.0,
-                    inside: Default::default(),
-                };
-                black_box(VolumeScene::new(grid, &[target]).unwrap().target_cells())
-            })
-        });
+        for (name, inside) in [
+            ("stanford_bunny_128", Inside::Parity),
+            ("stanford_bunny_128_winding_number", Inside::WindingNumber),
+        ] {
+            group.bench_function(name, |b| {
+                b.iter(|| {
+                    let target = VolumeTarget {
+                        name: "bunny".into(),
+                        mesh: bunny.clone(),
+                        fill: 1.0,
+                        outside: 0.0,
+                        inside,
+                    };
+                    black_box(VolumeScene::new(grid, &[target]).unwrap().target_cells())
+                })
+            });
+        }
         group.finish();
     }
 }

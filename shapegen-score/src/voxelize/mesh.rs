@@ -1,20 +1,21 @@
 //! Mesh solids by scanline: every placed triangle is rasterized onto the
 //! lattice rows whose centre lines pierce it, each crossing becomes the first
-//! cell at or after it, and one sort of the packed `(row, cell)` keys gives
-//! every row's crossings in order. The cost is proportional to the
+//! cell at or after it, and the packed `(row, cell)` keys, counted into
+//! their rows and sorted within each, give every row's crossings in order. The cost is proportional to the
 //! triangles' row footprints plus the crossings, whatever the mesh's shape.
 
 use std::ops::Range;
 
 use glam::DAffine3;
 
-use super::{Span, Voxelizer};
+use super::{Rows, Span, Voxelizer};
 use crate::grid::Grid;
 use crate::solid::{MeshSolid, RowTri};
 
-/// The walkable part of the lattice (see [`Grid::walkable`]) and how a
-/// crossing of one of its rows packs into a sortable `u64`: row (z-major)
-/// in the high 32 bits, then the cell, then the crossing's sign.
+/// An instance's rows (its box's, within the walkable lattice) and how a
+/// crossing of one of them packs into a sortable `u64`: the row (z-major,
+/// counted from the box's first) in the high 32 bits, then the cell (from
+/// the walkable lattice's first), then the crossing's sign.
 #[derive(Clone, Debug)]
 pub(super) struct RowKeys {
     x: Range<i64>,
@@ -28,15 +29,21 @@ pub(super) struct RowKeys {
 const SECTION_ROWS: i64 = 8;
 
 impl RowKeys {
-    pub(super) fn new(grid: &Grid) -> Self {
+    /// The keys of the rows of box `r`.
+    pub(super) fn new(grid: &Grid, r: &Rows) -> Self {
         Self {
             x: grid.walkable(0),
-            y: grid.walkable(1),
-            z: grid.walkable(2),
+            y: r.y.clone(),
+            z: r.z.clone(),
         }
     }
 
-    /// The key of row `(y, z)` (both walkable).
+    /// How many rows the box has.
+    pub(super) fn rows(&self) -> usize {
+        (self.y.end - self.y.start) as usize * (self.z.end - self.z.start) as usize
+    }
+
+    /// The key of row `(y, z)` (both in the box).
     #[inline]
     pub(super) fn row(&self, y: i64, z: i64) -> u64 {
         ((z - self.z.start) as u64 * (self.y.end - self.y.start) as u64 + (y - self.y.start) as u64)
@@ -75,8 +82,10 @@ impl RowKeys {
             return;
         }
         let [y_lo, y_hi, z_lo, z_hi] = t.yz_bounds();
-        let ys = rows_between(grid, 1, y_lo, y_hi);
-        let zs = rows_between(grid, 2, z_lo, z_hi);
+        // Rows beyond the box are never crossed (the reference looks at the
+        // box's rows only, too).
+        let ys = clamp(rows_between(grid, 1, y_lo, y_hi), &self.y);
+        let zs = clamp(rows_between(grid, 2, z_lo, z_hi), &self.z);
         if ys.is_empty() {
             return;
         }
@@ -103,6 +112,12 @@ impl RowKeys {
             }
         }
     }
+}
+
+/// `a ∩ b`.
+fn clamp(a: Range<i64>, b: &Range<i64>) -> Range<i64> {
+    let start = a.start.max(b.start);
+    start..a.end.min(b.end).max(start)
 }
 
 /// The walkable rows along `axis` whose centres may lie in `[lo, hi]`: a
@@ -146,13 +161,42 @@ impl Voxelizer {
         );
     }
 
-    /// Every placed triangle's crossings, as sorted keys in `self.keys`.
+    /// Every placed triangle's crossings, as sorted keys in `self.keys`:
+    /// counted into their rows, then each row sorted (a whole sort when the
+    /// box has far more rows than crossings).
     pub(super) fn cross_rows(&mut self, grid: &Grid, keys: &RowKeys) {
         self.keys.clear();
         for t in &self.tris {
             keys.rasterize(grid, t, &mut self.keys);
         }
-        self.keys.sort_unstable();
+        let rows = keys.rows();
+        if rows > 4 * self.keys.len() + 4096 {
+            self.keys.sort_unstable();
+            return;
+        }
+        let ends = &mut self.row_ends;
+        ends.clear();
+        ends.resize(rows + 1, 0);
+        for k in &self.keys {
+            ends[(k >> 32) as usize + 1] += 1;
+        }
+        for r in 1..=rows {
+            ends[r] += ends[r - 1];
+        }
+        self.sorted.clear();
+        self.sorted.resize(self.keys.len(), 0);
+        for &k in &self.keys {
+            let slot = &mut ends[(k >> 32) as usize];
+            self.sorted[*slot as usize] = k;
+            *slot += 1;
+        }
+        // `ends[r]` is now where row r ends, and row r starts where r − 1 ends.
+        let mut start = 0;
+        for &end in &ends[..rows] {
+            self.sorted[start..end as usize].sort_unstable();
+            start = end as usize;
+        }
+        std::mem::swap(&mut self.keys, &mut self.sorted);
     }
 
     /// The spans of a mesh solid by parity: each row's sorted crossings in
@@ -162,10 +206,11 @@ impl Voxelizer {
         grid: &Grid,
         m: &MeshSolid,
         to_world: &DAffine3,
+        r: &Rows,
         mut f: impl FnMut(Span),
     ) {
         self.place(m, &[], to_world);
-        let keys = RowKeys::new(grid);
+        let keys = RowKeys::new(grid, r);
         self.cross_rows(grid, &keys);
         for row in self.keys.chunk_by(|a, b| a >> 32 == b >> 32) {
             let (y, z) = keys.row_of(row[0]);

@@ -60,8 +60,11 @@ pub struct Voxelizer {
     /// The placed mesh: vertices, then triangles (with any cone).
     world: Vec<DVec3>,
     tris: Vec<crate::solid::RowTri>,
-    /// Packed crossings (see `mesh::RowKeys`), sorted.
+    /// Packed crossings (see `mesh::RowKeys`), sorted; room to sort them
+    /// by rows.
     keys: Vec<u64>,
+    sorted: Vec<u64>,
+    row_ends: Vec<u32>,
     /// The placed winding cone and its clusters.
     cone: Vec<[DVec3; 3]>,
     clusters: Vec<winding::Cluster>,
@@ -172,7 +175,7 @@ impl Voxelizer {
                 let to_world = to_f64(transform);
                 match m.winding() {
                     Some(w) => self.winding_spans(grid, m, w, &to_world, &r, f),
-                    None => self.mesh_spans(grid, m, &to_world, f),
+                    None => self.mesh_spans(grid, m, &to_world, &r, f),
                 }
             }
         }

@@ -7,12 +7,14 @@
 //! inside iff `|w| ≥ ½`.
 //!
 //! The solid angles need not be summed at every cell. The cone triangles are
-//! grouped into small clusters, each inside a ball `(c, R)`; a planar
-//! triangle inside the ball subtends at most the ball's cap,
-//! `2π (1 − √(1 − R²/D²))` from distance `D > R`, so a far cluster of `n`
-//! triangles changes `w` by at most `n/2 · (1 − √(1 − R²/D²))`. Where the
-//! exact part plus these bounds cannot reach ½ from either side, the cell is
-//! decided without the far clusters' angles; elsewhere they are summed too.
+//! grouped into small clusters, each inside a ball `(c, R)`. From distance
+//! `D > R`, a triangle of area `A` inside the ball subtends at most
+//! `A / (D − R)²` (the integrand of the solid angle is at most `1/d²`), and
+//! as a planar triangle at most the ball's cap `2π (1 − √(1 − R²/D²))`; so
+//! a far cluster of `n` triangles of total area `A` changes `w` by at most
+//! `min(A / (D − R)², 2π n (1 − √(1 − R²/D²))) / 4π`. Where the exact part
+//! plus these bounds cannot reach ½ from either side, the cell is decided
+//! without the far clusters' angles; elsewhere they are summed too.
 
 use glam::{DAffine3, DVec3};
 
@@ -28,7 +30,10 @@ const CLUSTER: usize = 8;
 #[derive(Clone, Debug)]
 pub(super) struct Cluster {
     centre: DVec3,
+    radius: f64,
     radius_sq: f64,
+    /// The triangles' total area over `4π`.
+    area: f64,
     tris: std::ops::Range<usize>,
 }
 
@@ -62,9 +67,15 @@ fn cluster(cone: &mut [[DVec3; 3]], offset: usize, out: &mut Vec<Cluster>) {
         .flatten()
         .map(|p| p.distance_squared(centre))
         .fold(0.0, f64::max);
+    let area: f64 = cone
+        .iter()
+        .map(|t| (t[1] - t[0]).cross(t[2] - t[0]).length() / 2.0)
+        .sum();
     out.push(Cluster {
         centre,
+        radius: radius_sq.sqrt(),
         radius_sq,
+        area: area / (4.0 * std::f64::consts::PI),
         tris: offset..offset + cone.len(),
     });
 }
@@ -82,7 +93,7 @@ impl Voxelizer {
         mut f: impl FnMut(Span),
     ) {
         self.place(m, w.reversed_cone(), to_world);
-        let keys = RowKeys::new(grid);
+        let keys = RowKeys::new(grid, r);
         self.cross_rows(grid, &keys);
         self.cone.clear();
         self.cone.extend(
@@ -148,7 +159,9 @@ fn decide(base: f64, cone: &[[DVec3; 3]], clusters: &[Cluster], p: DVec3) -> boo
         let d_sq = p.distance_squared(c.centre);
         if d_sq > c.radius_sq * 1.000_001 {
             let n = c.tris.len() as f64;
-            slack += n / 2.0 * (1.0 - (1.0 - c.radius_sq / d_sq).sqrt());
+            let gap = d_sq.sqrt() - c.radius;
+            let cap = n / 2.0 * (1.0 - (1.0 - c.radius_sq / d_sq).sqrt());
+            slack += cap.min(c.area / (gap * gap));
             far = true;
         } else {
             w -= cone[c.tris.clone()]
