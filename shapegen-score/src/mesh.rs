@@ -129,13 +129,18 @@ impl Mesh {
     /// edge and boundary checks see them.
     #[must_use]
     pub fn welded(&self) -> Vec<u32> {
-        let mut first = std::collections::HashMap::new();
-        (0..self.positions.len() as u32)
-            .map(|i| {
-                let key = self.positions[i as usize].to_array().map(f32::to_bits);
-                *first.entry(key).or_insert(i)
-            })
-            .collect()
+        // Sorted by (position bits, index): each run of one position starts
+        // with its first index.
+        let key = |i: u32| self.positions[i as usize].to_array().map(f32::to_bits);
+        let mut order: Vec<u32> = (0..self.positions.len() as u32).collect();
+        order.sort_unstable_by_key(|&i| (key(i), i));
+        let mut id = vec![0; self.positions.len()];
+        for run in order.chunk_by(|&a, &b| key(a) == key(b)) {
+            for &i in run {
+                id[i as usize] = run[0];
+            }
+        }
+        id
     }
 
     /// The same triangles with one vertex per distinct position: vertices
@@ -176,19 +181,24 @@ impl Mesh {
     #[must_use]
     pub fn boundary_chain(&self) -> Vec<[u32; 2]> {
         let id = self.welded();
-        let mut net = std::collections::BTreeMap::<(u32, u32), i32>::new();
+        // Every directed edge as (low, high, ±1), sorted: each run sums one
+        // undirected edge's net multiplicity.
+        let mut net: Vec<(u32, u32, i32)> = Vec::with_capacity(3 * self.triangles.len());
         for t in &self.triangles {
             for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
                 let (a, b) = (id[a as usize], id[b as usize]);
                 if a < b {
-                    *net.entry((a, b)).or_default() += 1;
+                    net.push((a, b, 1));
                 } else if b < a {
-                    *net.entry((b, a)).or_default() -= 1;
+                    net.push((b, a, -1));
                 }
             }
         }
+        net.sort_unstable();
         let mut chain = Vec::new();
-        for ((a, b), m) in net {
+        for run in net.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)) {
+            let (a, b) = (run[0].0, run[0].1);
+            let m: i32 = run.iter().map(|e| e.2).sum();
             let edge = if m > 0 { [a, b] } else { [b, a] };
             chain.extend(std::iter::repeat_n(edge, m.unsigned_abs() as usize));
         }

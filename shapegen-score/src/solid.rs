@@ -117,9 +117,6 @@ impl Convex {
     /// box without two opposite faces is a tube.
     #[must_use]
     pub fn from_mesh(mesh: &Mesh) -> Option<Self> {
-        if !mesh.boundary_chain().is_empty() {
-            return None;
-        }
         let pts: Vec<DVec3> = mesh.positions.iter().map(|p| p.as_dvec3()).collect();
         let (lo, hi) = bounds(&pts);
         let eps = 1e-6 * (hi - lo).max_element().max(1e-12);
@@ -142,7 +139,8 @@ impl Convex {
                 planes.push((n, d));
             }
         }
-        (planes.len() >= 4).then_some(Self {
+        // Closedness last: most meshes that are not convex fail above, early.
+        (planes.len() >= 4 && mesh.boundary_chain().is_empty()).then_some(Self {
             planes,
             bounds: (lo, hi),
         })
@@ -507,14 +505,18 @@ fn bounds(pts: &[DVec3]) -> (DVec3, DVec3) {
 /// Edges with exactly one incident triangle, vertices welded by exact position.
 fn boundary_edges(mesh: &Mesh) -> usize {
     let weld = mesh.welded();
-    let mut edges: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut edges: Vec<(u32, u32)> = Vec::with_capacity(3 * mesh.triangles.len());
     for t in &mesh.triangles {
         for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
             let (a, b) = (weld[a as usize], weld[b as usize]);
             if a != b {
-                *edges.entry((a.min(b), a.max(b))).or_default() += 1;
+                edges.push((a.min(b), a.max(b)));
             }
         }
     }
-    edges.values().filter(|&&n| n == 1).count()
+    edges.sort_unstable();
+    edges
+        .chunk_by(|x, y| x == y)
+        .filter(|run| run.len() == 1)
+        .count()
 }

@@ -5,6 +5,8 @@ mod common;
 
 /// Image targets: PNG sketches and masks, counts against brute-force coverage.
 mod image;
+/// Mesh topology: welding and the boundary chain against map-based definitions.
+mod mesh;
 /// The silhouette rasterizer against per-pixel ray casting.
 mod raster;
 /// Every mesh of `../shared/data` voxelized at 128³ (skipped without the data).
