@@ -14,6 +14,8 @@ pub struct Grid {
     max: DVec3,
     dims: UVec3,
     cell: DVec3,
+    /// `1 / cell`, for first guesses.
+    inv_cell: DVec3,
 }
 
 impl Grid {
@@ -47,7 +49,8 @@ impl Grid {
             min,
             max,
             dims,
-            cell: (max - min) / dims.as_dvec3(),
+            cell,
+            inv_cell: 1.0 / cell,
         })
     }
 
@@ -115,7 +118,7 @@ impl Grid {
         // farther than 2^40 cells away (or NaN) get the bound itself: no
         // caller walks that far (see `Grid::walkable`), and the loops could
         // not end.
-        let guess = (x - self.min[axis]) / self.cell[axis] - 0.5;
+        let guess = (x - self.min[axis]) * self.inv_cell[axis] - 0.5;
         if guess.is_nan() || guess.abs() >= Self::FAR {
             return if guess > 0.0 {
                 Self::FAR as i64

@@ -361,8 +361,9 @@ impl RowLine {
     #[must_use]
     pub fn cross(&self, y: f64) -> Option<f64> {
         let side = |k: usize| (self.edges[k][0] + self.edges[k][1] * y >= 0.0) != self.flips[k];
-        let s = side(0);
-        if side(1) != s || side(2) != s || !self.crossed {
+        // All three evaluated (no early exit): the outcome is unpredictable.
+        let (s0, s1, s2) = (side(0), side(1), side(2));
+        if !((s0 == s1) & (s1 == s2) & self.crossed) {
             return None;
         }
         Some(self.plane[0] + self.plane[1] * y)

@@ -6,13 +6,14 @@ use crate::solid::Convex;
 
 /// A convex solid's face plane, rewritten for the rows of one instance:
 /// along row `(y, z)` the line is inside the plane for `t` with
-/// `at + y·ay + z·az + t·nv <= d`.
+/// `at + y·ay + z·az + t·nv <= d`; `inv = 1 / nv`.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct RowPlane {
     at: f64,
     ay: f64,
     az: f64,
     nv: f64,
+    inv: f64,
     d: f64,
 }
 
@@ -24,11 +25,14 @@ pub(super) fn row_planes(c: &Convex, r: &Rows, out: &mut Vec<RowPlane>) {
         ay: n.dot(r.ey),
         az: n.dot(r.ez),
         nv: n.dot(r.dir),
+        inv: 1.0 / n.dot(r.dir),
         d,
     }));
 }
 
-/// The inside interval `[a, b) ∩ [0, len]` of row `(y, z)` for a convex solid.
+/// The inside interval `[a, b) ∩ [0, len]` of row `(y, z)` for a convex
+/// solid. Stops at the first plane that empties it (most rows of a thin,
+/// slanted solid's box miss it).
 #[inline]
 pub(super) fn convex_row(planes: &[RowPlane], y: f64, z: f64, len: f64) -> Option<(f64, f64)> {
     let (mut a, mut b) = (0.0f64, len);
@@ -39,11 +43,14 @@ pub(super) fn convex_row(planes: &[RowPlane], y: f64, z: f64, len: f64) -> Optio
                 return None;
             }
         } else {
-            let t = (p.d - no) / p.nv;
+            let t = (p.d - no) * p.inv;
             if p.nv > 0.0 {
                 b = b.min(t)
             } else {
                 a = a.max(t)
+            }
+            if a >= b {
+                return None;
             }
         }
     }
