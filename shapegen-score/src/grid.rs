@@ -114,10 +114,10 @@ impl Grid {
     #[inline]
     #[must_use]
     pub fn first_at_or_after(&self, axis: usize, x: f64) -> i64 {
-        // A truncating guess (no libm call); the loops make it exact. Points
-        // farther than 2^40 cells away (or NaN) get the bound itself: no
-        // caller walks that far (see `Grid::walkable`), and the loops could
-        // not end.
+        // A first guess by rounding up (without a libm call); the loops make
+        // it exact and almost never run. Points farther than 2^40 cells away
+        // (or NaN) get the bound itself: no caller walks that far (see
+        // `Grid::walkable`), and the loops could not end.
         let guess = (x - self.min[axis]) * self.inv_cell[axis] - 0.5;
         if guess.is_nan() || guess.abs() >= Self::FAR {
             return if guess > 0.0 {
@@ -129,6 +129,9 @@ impl Grid {
             };
         }
         let mut i = guess as i64;
+        if (i as f64) < guess {
+            i += 1;
+        }
         while self.center_along(axis, i - 1) >= x {
             i -= 1;
         }

@@ -68,13 +68,55 @@ impl Voxelizer {
     ) {
         row_planes(c, r, &mut self.planes);
         let x_walk = grid.walkable(0);
+        let cells = |(a, b): (f64, f64)| {
+            let x0 = grid.first_at_or_after(0, r.x_start + a).max(x_walk.start);
+            let x1 = grid.first_at_or_after(0, r.x_start + b).min(x_walk.end);
+            (x0, x1)
+        };
+        // When every plane the rows cross has its normal along x (a box
+        // placed without rotation), each cuts every row at the same t, so
+        // [`convex_row`] gives every row the same interval or none: it is
+        // computed once, and each row only checks the planes parallel to it.
+        if self
+            .planes
+            .iter()
+            .all(|p| p.nv == 0.0 || (p.ay == 0.0 && p.az == 0.0))
+        {
+            let (mut a, mut b) = (0.0f64, r.len);
+            for p in self.planes.iter().filter(|p| p.nv != 0.0) {
+                let t = (p.d - p.at) * p.inv;
+                if p.nv > 0.0 {
+                    b = b.min(t)
+                } else {
+                    a = a.max(t)
+                }
+            }
+            let (x0, x1) = cells((a, b));
+            if !(a < b) || x0 >= x1 {
+                return;
+            }
+            for z in r.z.clone() {
+                let wz = grid.center_along(2, z);
+                for y in r.y.clone() {
+                    let wy = grid.center_along(1, y);
+                    let inside = self
+                        .planes
+                        .iter()
+                        .filter(|p| p.nv == 0.0)
+                        .all(|p| p.at + wy * p.ay + wz * p.az <= p.d);
+                    if inside {
+                        f(Span { y, z, x0, x1 });
+                    }
+                }
+            }
+            return;
+        }
         for z in r.z.clone() {
             let wz = grid.center_along(2, z);
             for y in r.y.clone() {
                 let wy = grid.center_along(1, y);
-                if let Some((a, b)) = convex_row(&self.planes, wy, wz, r.len) {
-                    let x0 = grid.first_at_or_after(0, r.x_start + a).max(x_walk.start);
-                    let x1 = grid.first_at_or_after(0, r.x_start + b).min(x_walk.end);
+                if let Some(ab) = convex_row(&self.planes, wy, wz, r.len) {
+                    let (x0, x1) = cells(ab);
                     if x0 < x1 {
                         f(Span { y, z, x0, x1 });
                     }
