@@ -20,12 +20,12 @@ use shapegen::optimize::{ScratchPool, evaluate_all};
 use shapegen::prelude::*;
 use shapegen::rng::stream;
 use shapegen::scenes::{Spaceship, TreeV1, TreeV2};
-use shapegen::score::camera::Camera;
-use shapegen::score::image::ImageTarget;
-use shapegen::score::obj::ShapeMeshes;
-use shapegen::score::score::{ImageFitness, ImageScore, ImageTargets, VolumeFitness, VolumeScore};
-use shapegen::score::volume::{VolumeScene, VolumeTarget};
+use shapegen::score::Camera;
+use shapegen::score::ImageTarget;
+use shapegen::score::ShapeMeshes;
 use shapegen::score::{Grid, Inside, Mesh};
+use shapegen::score::{ImageFitness, ImageScore, ImageTargets, VolumeFitness, VolumeScore};
+use shapegen::score::{VolumeScene, VolumeTarget};
 
 fn data(rel: &str) -> Option<PathBuf> {
     let root = std::env::var_os("SHAPEGEN_DATA")

@@ -13,7 +13,7 @@ use shapegen::prelude::*;
 use shapegen::rng::stream;
 use shapegen::scenes::{GridCity, SpaceFillingCity, Spaceship, TreeV1, TreeV2};
 use shapegen::score::ShapeMeshes;
-use shapegen::score::obj::write_model;
+use shapegen::score::write_model;
 
 /// A random individual of about `genes` genes, written to `out/<name>.obj`.
 fn write<G: Generator>(

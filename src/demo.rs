@@ -16,7 +16,7 @@ pub use shapegen_core::demo::{BlocksTarget, blocks_graph};
 
 use crate::glam::Vec3;
 use crate::score::Mesh;
-use crate::score::volume::VolumeTarget;
+use crate::score::VolumeTarget;
 
 /// The built-in target of `cargo run`: a ship-shaped volume (a hull along +z
 /// with a cockpit on top and wings on both sides), as abutting boxes, one

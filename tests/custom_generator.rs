@@ -245,7 +245,7 @@ fn a_users_cli_runs_its_own_default_experiment() {
 fn write_model_writes_the_meshes_it_is_given() {
     use shapegen::express::{CountingSink, Generator};
     use shapegen::scenes::Spaceship;
-    use shapegen::score::{Mesh, ShapeMeshes, obj::write_model};
+    use shapegen::score::{Mesh, ShapeMeshes, write_model};
     // The spaceship with its cube replaced by a tetrahedron.
     let tetra = Mesh {
         positions: vec![

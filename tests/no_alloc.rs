@@ -13,12 +13,12 @@ use shapegen::glam::{UVec3, Vec3};
 use shapegen::prelude::*;
 use shapegen::rng::stream;
 use shapegen::scenes::{Spaceship, TreeV2};
-use shapegen::score::camera::Camera;
-use shapegen::score::image::ImageTarget;
-use shapegen::score::obj::ShapeMeshes;
-use shapegen::score::score::{ImageFitness, ImageScore, ImageTargets, VolumeFitness, VolumeScore};
-use shapegen::score::volume::{VolumeScene, VolumeTarget};
+use shapegen::score::Camera;
+use shapegen::score::ImageTarget;
+use shapegen::score::ShapeMeshes;
 use shapegen::score::{Grid, Mesh};
+use shapegen::score::{ImageFitness, ImageScore, ImageTargets, VolumeFitness, VolumeScore};
+use shapegen::score::{VolumeScene, VolumeTarget};
 
 struct Counting;
 

@@ -1,46 +1,73 @@
 //! CPU scoring for [shapegen](https://crates.io/crates/shapegen): turns an
 //! expressed model into a fitness, exactly, with no GPU.
 //!
-//! - Geometry: [`mesh::Mesh`] (built-in unit cube, the paper's trunk
-//!   frustum, a simple leaf; OBJ loading with clear errors) and OBJ export of
-//!   models ([`obj`]).
-//! - Volumes: a voxel [`grid::Grid`], [`solid::Solid`]s (convex meshes as
-//!   half-spaces, other meshes through an obvhs BVH), the centre-sampled
-//!   span [`voxelize`]r, and [`volume`] targets combined into one weight grid
-//!   with per-evaluation counts of good, bad, overlapping and out-of-grid cells.
-//! - Images: the paper's orbit [`camera::Camera`] (and an orthographic one),
-//!   the exact centre-sampled silhouette [`raster`]izer, and [`image`]
-//!   targets (PNG sketches or signed weights) with overlay output.
-//! - [`score`]: the paper's linear scores and the normalized form of its
-//!   code, as `Fitness` implementations for any generator:
-//!   [`score::VolumeFitness`] and [`score::ImageFitness`].
+//! Every item is at the crate's root; the modules behind them, one per
+//! concern:
 //!
-//! Each fast path has a brute-force reference (`voxelize::reference`,
-//! `raster::reference_coverage`) that the property tests compare it with.
+//! - Geometry: [`Mesh`] (built-in unit cube, the paper's trunk frustum, a
+//!   simple leaf; OBJ loading with clear errors, [`Placement`]), the
+//!   [`ShapeMeshes`] of a generator's shapes, and OBJ export of models
+//!   ([`write_obj`], [`write_model`]).
+//! - Volume scenes: a voxel [`Grid`]; [`Solid`]s (convex meshes as
+//!   half-spaces, other meshes as placed triangles, [`RowTri`]); the
+//!   centre-sampled span [`Voxelizer`] (analytic rows for convex solids, a
+//!   scanline over the triangles for other meshes, the winding number for
+//!   meshes with holes); [`VolumeScene`]: targets combined into one weight
+//!   grid, [`VolumeScratch`] counts of good, bad, overlapping and
+//!   out-of-grid cells, and the paper's [`VolumeScore`]s.
+//! - Image scenes: the paper's orbit [`Camera`] (and an orthographic one),
+//!   the exact centre-sampled silhouette [`Rasterizer`], [`ImageTarget`]s
+//!   (PNG sketches or signed weights) with overlays, [`ImageTargets`] and
+//!   the paper's [`ImageScore`]s.
+//! - [`ModelFitness`]: a generator's models scored against either scene, the
+//!   `Fitness` the optimizers run ([`VolumeFitness`], [`ImageFitness`]).
+//!
+//! Each fast path has a brute-force [`reference`](mod@reference) that the property tests
+//! compare it with.
 
 #![forbid(unsafe_code)]
 
-pub mod camera;
-pub mod error;
-pub mod files;
-pub mod grid;
-pub mod image;
-pub mod mesh;
-pub mod obj;
-pub mod quality;
-pub mod raster;
-pub mod score;
-pub mod solid;
-pub mod volume;
-pub mod voxelize;
+mod camera;
+mod error;
+mod files;
+mod fitness;
+mod grid;
+mod image;
+mod mesh;
+mod obj;
+mod quality;
+mod raster;
+mod shapes;
+mod solid;
+mod volume;
+mod voxelize;
 
+pub use camera::{Camera, Projection, Projector};
 pub use error::ScoreError;
+pub use files::{write_atomically, write_png};
+pub use fitness::{ImageFitness, ModelFitness, Scene, VolumeFitness, smootherstep};
 pub use grid::Grid;
-pub use mesh::{Mesh, Placement, fit_transform};
-pub use obj::ShapeMeshes;
-pub use quality::Quality;
-pub use score::{
-    ImageFitness, ImageScore, ImageTargets, ModelFitness, Scene, VolumeFitness, VolumeScore,
+pub use image::{
+    ImageCounts, ImageScore, ImageScratch, ImageTarget, ImageTargets, MAX_DECODE_BYTES, PngMask,
 };
-pub use solid::{Inside, Solid};
+pub use mesh::{Mesh, Placement, fit_transform};
+pub use obj::{write_model, write_obj};
+pub use quality::Quality;
+pub use raster::{PixelSpan, RasterShape, Rasterizer};
+pub use shapes::ShapeMeshes;
+pub use solid::{Convex, Inside, MeshSolid, RowLine, RowTri, Solid, Winding, solid_angle};
+pub use volume::{
+    OutsideCount, OverlapCount, VolumeCounts, VolumeScene, VolumeScore, VolumeScratch,
+    VolumeTarget, aabb_cells_outside,
+};
 pub use voxelize::{Span, Voxelizer};
+
+/// Slow, obviously correct versions of the fast paths, for tests and
+/// debugging: voxel cells decided one by one, winding numbers summed over
+/// every triangle, pixel coverage by one ray per pixel.
+pub mod reference {
+    pub use crate::raster::reference_coverage;
+    pub use crate::voxelize::reference::{
+        cells_by_parity, cells_by_planes, mesh_cells_by_row_parity, winding_numbers,
+    };
+}

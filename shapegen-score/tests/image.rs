@@ -3,10 +3,10 @@
 use crate::common::{placement, shared};
 use glam::{Affine3A, DVec3, Quat, Vec3};
 use proptest::prelude::*;
+use shapegen_score::Camera;
 use shapegen_score::Mesh;
-use shapegen_score::camera::Camera;
-use shapegen_score::image::{ImageScratch, ImageTarget};
-use shapegen_score::raster::{RasterShape, reference_coverage};
+use shapegen_score::{ImageScratch, ImageTarget};
+use shapegen_score::{RasterShape, reference::reference_coverage};
 
 fn camera(w: u32, h: u32) -> Camera {
     Camera::orbit(
@@ -179,7 +179,7 @@ fn disk_pixels() -> u64 {
 
 #[test]
 fn png_masks_read_transparency_and_shading() {
-    use shapegen_score::image::PngMask;
+    use shapegen_score::PngMask;
     let cam = camera(40, 30);
     let masked =
         |path: &std::path::Path, mask| ImageTarget::from_png_masked(path, cam, mask, 1.0, -1.0);

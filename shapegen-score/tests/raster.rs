@@ -5,9 +5,9 @@ use crate::common::{
 };
 use glam::{Affine3A, DVec3, Vec3};
 use proptest::prelude::*;
+use shapegen_score::Camera;
 use shapegen_score::Mesh;
-use shapegen_score::camera::Camera;
-use shapegen_score::raster::{RasterShape, Rasterizer, reference_coverage};
+use shapegen_score::{RasterShape, Rasterizer, reference::reference_coverage};
 
 /// Two disjoint cubes: a non-convex mesh, filled from its contour (or triangle by triangle when clipped).
 fn two_cubes() -> Mesh {

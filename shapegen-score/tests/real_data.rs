@@ -10,9 +10,9 @@ use std::path::PathBuf;
 
 use glam::{Affine3A, IVec3, Vec3};
 use rayon::prelude::*;
-use shapegen_score::solid::{Inside, Solid};
-use shapegen_score::voxelize::reference;
+use shapegen_score::reference;
 use shapegen_score::{Grid, Mesh, Voxelizer};
+use shapegen_score::{Inside, Solid};
 
 /// Every OBJ under `../shared/data/{models,paper}`, sorted; `None` (with a
 /// message) when there are none, and the test is skipped.

@@ -6,12 +6,10 @@ use crate::common::placement;
 use glam::{Affine3A, IVec3, Quat, UVec3, Vec3};
 use proptest::prelude::*;
 use shapegen_core::graph::Limits;
-use shapegen_score::score::{OverlapCount, VolumeScore, smootherstep};
-use shapegen_score::volume::{
-    OutsideCount, VolumeCounts, VolumeScene, VolumeScratch, VolumeTarget,
-};
-use shapegen_score::voxelize::reference;
+use shapegen_score::reference;
 use shapegen_score::{Grid, Mesh, Solid};
+use shapegen_score::{OutsideCount, VolumeCounts, VolumeScene, VolumeScratch, VolumeTarget};
+use shapegen_score::{OverlapCount, VolumeScore, smootherstep};
 
 fn grid() -> Grid {
     Grid::new(

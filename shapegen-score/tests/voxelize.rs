@@ -8,9 +8,9 @@ use crate::common::{
 };
 use glam::{Affine3A, IVec3, UVec3, Vec3};
 use proptest::prelude::*;
-use shapegen_score::solid::{Inside, MeshSolid};
-use shapegen_score::voxelize::reference;
+use shapegen_score::reference;
 use shapegen_score::{Grid, Mesh, Solid, Voxelizer};
+use shapegen_score::{Inside, MeshSolid};
 
 fn cells(grid: &Grid, solid: &Solid, t: &Affine3A) -> HashSet<IVec3> {
     let mut out = HashSet::new();

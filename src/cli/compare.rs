@@ -15,7 +15,7 @@ use crate::experiment::{Experiment, Method};
 use crate::genome::Chromosome;
 use crate::optimize::{Budget, GenerationStats, Interruptible, RunResult};
 use crate::output::{self, Row, mean_iou, write_json};
-use crate::score::files::write_atomically;
+use crate::score::write_atomically;
 
 /// Points of the common time grid.
 const GRID: usize = 200;

@@ -13,9 +13,9 @@ use crate::optimize::{
     Budget, Checkpoint, FNV1A_START, Fitness, Ga, Observer, OptimizeError, Optimizer, Rjmcmc,
     RunResult, Smc, fnv1a,
 };
-use crate::score::files::write_atomically;
-use crate::score::obj::write_obj;
-use crate::score::volume::VolumeScene;
+use crate::score::VolumeScene;
+use crate::score::write_atomically;
+use crate::score::write_obj;
 use crate::score::{
     ImageScore, ImageTargets, ModelFitness, Quality, Scene, ShapeMeshes, VolumeScore,
 };

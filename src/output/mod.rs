@@ -42,7 +42,7 @@ use crate::experiment::{Experiment, ExperimentError, Method};
 use crate::genome::Chromosome;
 use crate::optimize::{RunResult, StopReason};
 use crate::score::Quality;
-use crate::score::files::write_atomically;
+use crate::score::write_atomically;
 
 /// How the best model covers one target (see [`Quality`]).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

@@ -92,7 +92,7 @@ impl Voxelizer {
                 }
             }
             let (x0, x1) = cells((a, b));
-            if !(a < b) || x0 >= x1 {
+            if a.partial_cmp(&b) != Some(std::cmp::Ordering::Less) || x0 >= x1 {
                 return;
             }
             for z in r.z.clone() {

@@ -133,7 +133,7 @@ fn rows_between(grid: &Grid, axis: usize, lo: f64, hi: f64) -> Range<i64> {
     let at = |v: f64| ((v - min) / cell - 0.5).clamp(walk.start as f64 - 1.0, walk.end as f64);
     let first = (at(lo) - 1e-6).ceil();
     let last = (at(hi) + 1e-6).floor();
-    if !(first <= last) {
+    if first.is_nan() || last.is_nan() || first > last {
         return 0..0;
     }
     let start = (first as i64).max(walk.start);

@@ -7,9 +7,9 @@ use super::Ctx;
 use crate::experiment::ExperimentError;
 use crate::experiment::file::{CameraFile, ImageFile, ImageTargetFile, MaskFile};
 use crate::glam::DVec3;
+use crate::score::Camera;
 use crate::score::ImageTargets;
-use crate::score::camera::Camera;
-use crate::score::image::{ImageTarget, PngMask};
+use crate::score::{ImageTarget, PngMask};
 
 /// The image size when `[image]` gives none (the paper's).
 const DEFAULT_SIZE: (u32, u32) = (800, 600);

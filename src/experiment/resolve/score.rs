@@ -3,7 +3,7 @@
 use super::Ctx;
 use crate::experiment::ExperimentError;
 use crate::experiment::file::{ExperimentFile, ScoreForm};
-use crate::score::score::OverlapCount;
+use crate::score::OverlapCount;
 use crate::score::{ImageScore, VolumeScore};
 
 /// `w_good`, `w_bad` and `w_length` when the file leaves them out.

@@ -10,9 +10,9 @@ use crate::experiment::file::{
     FitFile, InsideFile, OutsideCountFile, ScaleFile, VolumeFile, VolumeTargetFile,
 };
 use crate::glam::{UVec3, Vec3};
-use crate::score::solid::Inside;
-use crate::score::volume::{OutsideCount, VolumeScene, VolumeTarget};
+use crate::score::Inside;
 use crate::score::{Grid, Mesh, Placement, ScoreError, ShapeMeshes};
+use crate::score::{OutsideCount, VolumeScene, VolumeTarget};
 
 /// The scene, its target meshes (as placed, for `target.obj`) and warnings.
 /// `paper`: the score is the paper's linear form, which reads each target's

@@ -1,13 +1,4 @@
-//! Volume targets and counting a model's voxels against them.
-//!
-//! Targets are voxelized once, with the same centre-sampled routine as the
-//! model, and combined into one weight per cell as the paper does:
-//! `C(v) = Σ_i (w_i · V_i(v) + w̃_i · (1 − V_i(v)))`. Evaluating a model
-//! voxelizes each instance as it is emitted and accumulates the counts the
-//! scores need; only the touched cells are reset afterwards, so an
-//! evaluation costs what the model covers, not the grid's size.
-
-use std::path::Path;
+//! Volume targets voxelized and combined into one weight per cell.
 
 use glam::Affine3A;
 
@@ -16,6 +7,8 @@ use crate::grid::Grid;
 use crate::mesh::Mesh;
 use crate::solid::{Inside, Solid};
 use crate::voxelize::{Span, Voxelizer};
+
+use super::VolumeScratch;
 
 /// One volume target: a closed mesh in world coordinates and its weights.
 #[derive(Clone, Debug)]
@@ -51,19 +44,19 @@ pub enum OutsideCount {
 /// A voxel grid with targets combined into one weight per cell.
 #[derive(Clone, Debug)]
 pub struct VolumeScene {
-    grid: Grid,
+    pub(super) grid: Grid,
     /// `C(v)` per cell.
-    weight: Vec<f32>,
+    pub(super) weight: Vec<f32>,
     /// Whether each cell is inside some target.
-    target: Vec<bool>,
-    target_cells: u64,
+    pub(super) target: Vec<bool>,
+    pub(super) target_cells: u64,
     /// Per group of targets (only with two or more groups): whether each
     /// cell is inside one of the group's targets.
-    members: Vec<Vec<bool>>,
+    pub(super) members: Vec<Vec<bool>>,
     /// `Σ_i w̃_i`: the weight of a model cell outside the grid (outside every target).
-    outside_sum: f64,
-    outside_count: OutsideCount,
-    warnings: Vec<String>,
+    pub(super) outside_sum: f64,
+    pub(super) outside_count: OutsideCount,
+    pub(super) warnings: Vec<String>,
 }
 
 impl VolumeScene {
@@ -288,7 +281,7 @@ fn empty_target(grid: &Grid, t: &VolumeTarget, solid: &Solid) -> String {
 }
 
 /// The linear indices of a span's cells inside the grid.
-fn in_grid(grid: &Grid, s: Span) -> std::ops::Range<usize> {
+pub(super) fn in_grid(grid: &Grid, s: Span) -> std::ops::Range<usize> {
     let d = grid.dims();
     let row_ok = s.y >= 0 && s.z >= 0 && (s.y as u64) < d.y as u64 && (s.z as u64) < d.z as u64;
     let (x0, x1) = (s.x0.max(0), s.x1.min(d.x as i64));
@@ -297,197 +290,4 @@ fn in_grid(grid: &Grid, s: Span) -> std::ops::Range<usize> {
     }
     let base = grid.index(glam::UVec3::new(0, s.y as u32, s.z as u32));
     base + x0 as usize..base + x1 as usize
-}
-
-/// Lattice cells outside `grid` whose centres lie in the closed world box
-/// around the corners of `solid`'s local bounding box placed by
-/// `transform`; none for a transform the voxelizer refuses (singular or not
-/// finite).
-#[must_use]
-pub fn aabb_cells_outside(grid: &Grid, solid: &Solid, transform: &Affine3A) -> u64 {
-    let Some((_, wlo, whi)) = crate::voxelize::placed_box(solid, transform) else {
-        return 0;
-    };
-    let (mut all, mut inside) = (1u64, 1u64);
-    for axis in 0..3 {
-        let cells = grid.clamp_walk(axis, grid.centres_in(axis, wlo[axis], whi[axis]));
-        let dim = i64::from(grid.dims()[axis]);
-        all = all.saturating_mul((cells.end - cells.start).max(0) as u64);
-        inside = inside.saturating_mul((cells.end.min(dim) - cells.start.max(0)).max(0) as u64);
-    }
-    all - inside
-}
-
-/// What one model covers, counted against a [`VolumeScene`].
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct VolumeCounts {
-    /// `Σ C(v)` over the grid cells the model covers (each once).
-    pub weight: f64,
-    /// `G`: covered target cells.
-    pub good: u64,
-    /// `B`: covered cells outside every target (in the grid).
-    pub bad: u64,
-    /// Cells covered by two or more instances.
-    pub overlap_cells: u64,
-    /// `Σ max(0, h − 1)` over cells with hit count `h`.
-    pub overlap_hits: u64,
-    /// Lattice cells outside the grid covered by the model (each instance
-    /// counts its own; see [`OutsideCount`]).
-    pub outside: u64,
-}
-
-/// Adds one instance's span to the hit counts and `counts`: branch-free per
-/// cell (instances overlap at random, so branches would mispredict), with
-/// the sums kept in registers for the span.
-#[inline]
-fn count_span(hits: &mut [u8], weight: &[f32], target: &[bool], counts: &mut VolumeCounts) {
-    let (mut w_sum, mut first, mut good, mut second, mut again) = (0.0f64, 0u64, 0u64, 0u64, 0u64);
-    for ((h, &w), &t) in hits.iter_mut().zip(weight).zip(target) {
-        let old = *h;
-        *h = old.saturating_add(1);
-        let is_first = u64::from(old == 0);
-        w_sum += if old == 0 { f64::from(w) } else { 0.0 };
-        first += is_first;
-        good += is_first & u64::from(t);
-        second += u64::from(old == 1);
-        again += u64::from(old != 0);
-    }
-    counts.weight += w_sum;
-    counts.good += good;
-    counts.bad += first - good;
-    counts.overlap_cells += second;
-    counts.overlap_hits += again;
-}
-
-/// Per-thread working memory of volume evaluations: hit counts per cell
-/// (all zero between evaluations), the runs to reset, and the voxelizer.
-#[derive(Clone, Debug)]
-pub struct VolumeScratch {
-    hits: Vec<u8>,
-    touched: Vec<(u32, u32)>,
-    voxelizer: Voxelizer,
-    counts: VolumeCounts,
-}
-
-impl VolumeScratch {
-    /// Working memory for `scene`.
-    #[must_use]
-    pub fn new(scene: &VolumeScene) -> Self {
-        Self {
-            hits: vec![0; scene.grid.len()],
-            touched: Vec::new(),
-            voxelizer: Voxelizer::new(),
-            counts: VolumeCounts::default(),
-        }
-    }
-
-    /// Starts counting a new model.
-    pub fn begin(&mut self) {
-        for &(start, len) in &self.touched {
-            self.hits[start as usize..(start + len) as usize].fill(0);
-        }
-        self.touched.clear();
-        self.counts = VolumeCounts::default();
-    }
-
-    /// Adds one instance of `solid`, placed by `transform`.
-    pub fn add(&mut self, scene: &VolumeScene, solid: &Solid, transform: &Affine3A) {
-        let Self {
-            hits,
-            touched,
-            voxelizer,
-            counts,
-        } = self;
-        let grid = &scene.grid;
-        let by_solid = scene.outside_count == OutsideCount::Solid;
-        if !by_solid {
-            counts.outside += aabb_cells_outside(grid, solid, transform);
-        }
-        voxelizer.spans(grid, solid, transform, |s| {
-            let cells = in_grid(grid, s);
-            if by_solid {
-                counts.outside += (s.x1 - s.x0) as u64 - cells.len() as u64;
-            }
-            if cells.is_empty() {
-                return;
-            }
-            let (a, b) = (cells.start, cells.end);
-            touched.push((a as u32, (b - a) as u32));
-            count_span(
-                &mut hits[a..b],
-                &scene.weight[a..b],
-                &scene.target[a..b],
-                counts,
-            );
-        });
-    }
-
-    /// The counts of the model added since [`begin`](Self::begin).
-    #[must_use]
-    pub fn counts(&self) -> VolumeCounts {
-        self.counts
-    }
-
-    /// How many instances hit each cell (saturating at 255), indexed like
-    /// [`Grid::index`], for the model added since [`begin`](Self::begin).
-    #[must_use]
-    pub fn hits(&self) -> &[u8] {
-        &self.hits
-    }
-}
-
-impl VolumeScene {
-    /// Writes a PNG of the cells of one grid slice: the slice perpendicular
-    /// to `axis` (0 = x, 1 = y, 2 = z) at cell `index`, coloured like the
-    /// image overlay (target only light blue, model only red, both green,
-    /// the rest white; cells hit twice or more darker). `hits` comes from
-    /// [`VolumeScratch::hits`]. Each cell becomes `scale × scale` pixels; the
-    /// image's up direction is the next axis (y for x and z slices, z for y).
-    pub fn write_slice(
-        &self,
-        path: &Path,
-        hits: &[u8],
-        axis: usize,
-        index: u32,
-        scale: u32,
-    ) -> Result<(), ScoreError> {
-        let d = self.grid.dims();
-        let bad = |reason: String| ScoreError::Image {
-            path: path.to_path_buf(),
-            reason,
-        };
-        if axis > 2 || index >= d[axis] || hits.len() != self.grid.len() || scale == 0 {
-            return Err(bad(format!(
-                "no slice {index} along axis {axis} of a {}×{}×{} grid with {} hit counts",
-                d.x,
-                d.y,
-                d.z,
-                hits.len()
-            )));
-        }
-        // (horizontal, vertical) axes of the picture.
-        let (u, v) = match axis {
-            0 => (2, 1),
-            1 => (0, 2),
-            _ => (0, 1),
-        };
-        let (w, h) = (d[u] * scale, d[v] * scale);
-        let img = image::RgbImage::from_fn(w, h, |px, py| {
-            let mut c = glam::UVec3::ZERO;
-            c[axis] = index;
-            c[u] = px / scale;
-            c[v] = d[v] - 1 - py / scale;
-            let i = self.grid.index(c);
-            let (t, m) = (self.target[i], hits[i]);
-            image::Rgb(match (t, m) {
-                (true, 0) => [150, 190, 240],
-                (true, 1) => [0, 128, 0],
-                (true, _) => [0, 70, 0],
-                (false, 0) => [255, 255, 255],
-                (false, 1) => [220, 40, 40],
-                (false, _) => [130, 20, 20],
-            })
-        });
-        crate::files::write_png(path, &img)
-    }
 }
