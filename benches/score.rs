@@ -274,6 +274,18 @@ fn bench_score(c: &mut Criterion) {
             ("stanford_bunny_128", Inside::Parity),
             ("stanford_bunny_128_winding_number", Inside::WindingNumber),
         ] {
+            let target = |inside| VolumeTarget {
+                name: "bunny".into(),
+                mesh: bunny.clone(),
+                fill: 1.0,
+                outside: 0.0,
+                inside,
+            };
+            // The cell count, to compare with peers (benches/peers.py).
+            eprintln!(
+                "{name}: {} cells inside",
+                VolumeScene::new(grid, &[target(inside)]).unwrap().target_cells()
+            );
             group.bench_function(name, |b| {
                 b.iter(|| {
                     let target = VolumeTarget {
