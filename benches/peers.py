@@ -9,11 +9,10 @@ Same mesh (`../shared/data/models/stanford-bunny.obj`, scaled per axis into
 - open3d (Embree) parity, one ray per row: `list_intersections` along +x, then
   the cells between pairs of crossings
 - libigl fast winding number (Barnes-Hut, beta = 2) at every cell centre
-- trimesh `contains` (ray parity per point) on a sample, scaled to the grid
 
 Not run in CI. To run it:
 
-    python3 -m venv /tmp/peers && /tmp/peers/bin/pip install numpy open3d libigl trimesh
+    python3 -m venv /tmp/peers && /tmp/peers/bin/pip install numpy open3d libigl
     # open3d needs libusb: apt-get install -y libusb-1.0-0
     /tmp/peers/bin/python benches/peers.py [--data ../shared/data] [--runs 5] [--threads N]
 
@@ -106,18 +105,6 @@ def main():
         timed("libigl fast winding number", lambda: int((np.abs(igl.fast_winding_number(V, Fi, cells)) >= 0.5).sum()))
     except ImportError as e:
         print(f"libigl: not available ({e})")
-
-    try:
-        import trimesh
-
-        m = trimesh.Trimesh(V, F, process=False)
-        sample = cells[:: 64]
-        t = time.perf_counter()
-        inside = int(m.contains(sample).sum())
-        dt = (time.perf_counter() - t) * 64
-        print(f"{'trimesh contains (1/64 sample, scaled)':48s} ~      {dt * 1e3:9.1f} ms  (~{inside * 64} cells inside)")
-    except ImportError as e:
-        print(f"trimesh: not available ({e})")
 
 
 def read_obj(path):
