@@ -284,7 +284,9 @@ fn bench_score(c: &mut Criterion) {
             // The cell count, to compare with peers (benches/peers.py).
             eprintln!(
                 "{name}: {} cells inside",
-                VolumeScene::new(grid, &[target(inside)]).unwrap().target_cells()
+                VolumeScene::new(grid, &[target(inside)])
+                    .unwrap()
+                    .target_cells()
             );
             group.bench_function(name, |b| {
                 b.iter(|| {

@@ -19,8 +19,10 @@ pub struct Grid {
 }
 
 impl Grid {
-    /// The most cells a grid may have (2^27 = 512³): about 0.8 GB for a
-    /// scene with its weights, plus 134 MB per worker thread's scratch.
+    /// The most cells a grid may have (2^27 = 512³): a scene keeps about
+    /// 0.8 GB of weights for it (1.9 GB while it is built, see
+    /// `VolumeScene::bytes_needed`), plus 134 MB per worker thread's scratch.
+    /// Experiments also check a grid against the memory the machine has.
     pub const MAX_CELLS: u64 = 1 << 27;
 
     /// A grid over `[min, max]` with `dims` cells per axis (anisotropic cells allowed).

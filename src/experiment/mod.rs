@@ -108,6 +108,7 @@
 
 mod error;
 mod file;
+mod memory;
 pub(crate) mod problem;
 mod resolve;
 

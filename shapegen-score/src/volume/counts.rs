@@ -91,6 +91,12 @@ impl VolumeScratch {
         }
     }
 
+    /// The memory of one scratch over `grid` (bytes): one hit count a cell.
+    #[must_use]
+    pub fn bytes_needed(grid: &Grid) -> u64 {
+        grid.len() as u64
+    }
+
     /// Starts counting a new model.
     pub fn begin(&mut self) {
         for &(start, len) in &self.touched {

@@ -171,6 +171,16 @@ impl VolumeScene {
         })
     }
 
+    /// The most memory building a scene over `grid` with `groups` groups of
+    /// targets takes (bytes, at its peak: the weights in `f64` while they
+    /// are summed, the kept `f32` weights, target and per-group flags), for
+    /// checks before a large grid is allocated.
+    #[must_use]
+    pub fn bytes_needed(grid: &Grid, groups: usize) -> u64 {
+        let per_cell = 8 + 4 + 1 + 1 + if groups > 1 { groups as u64 } else { 0 };
+        grid.len() as u64 * per_cell
+    }
+
     /// The same scene counting cells outside the grid by `rule`.
     #[must_use]
     pub fn with_outside_count(mut self, rule: OutsideCount) -> Self {

@@ -12,7 +12,7 @@ use crate::experiment::file::{
 use crate::glam::{UVec3, Vec3};
 use crate::score::Inside;
 use crate::score::{Grid, Mesh, Placement, ScoreError, ShapeMeshes};
-use crate::score::{OutsideCount, VolumeScene, VolumeTarget};
+use crate::score::{OutsideCount, VolumeScene, VolumeScratch, VolumeTarget};
 
 /// The scene, its target meshes (as placed, for `target.obj`) and warnings.
 /// `paper`: the score is the paper's linear form, which reads each target's
@@ -63,6 +63,22 @@ pub(super) fn from_file(
         targets.extend(target(ctx, &format!("volume.targets[{i}]"), t, &grid)?);
         entries.push(start..targets.len());
     }
+    // The scene and one scratch per worker thread, before they are allocated.
+    let bytes = VolumeScene::bytes_needed(&grid, entries.len())
+        + rayon::current_num_threads() as u64 * VolumeScratch::bytes_needed(&grid);
+    let d = grid.dims();
+    crate::experiment::memory::check(
+        &format!(
+            "the {} × {} × {} grid (with {} worker threads)",
+            d.x,
+            d.y,
+            d.z,
+            rayon::current_num_threads()
+        ),
+        bytes,
+        crate::experiment::memory::available(),
+    )
+    .map_err(|e| ctx.err("volume.resolution", v, format!("{e}: lower the resolution")))?;
     let scene = VolumeScene::new_grouped(grid, &targets, &entries)
         .map_err(|e| match e {
             ScoreError::EmptyTarget { target, reason } => {
