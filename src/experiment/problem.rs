@@ -109,7 +109,7 @@ impl SceneOutputs for VolumeScene {
                 .unwrap_or(1);
             let scale = (400 / across.max(1)).clamp(1, 8);
             let path = dir.join(format!("slice_{name}.png"));
-            self.write_slice(&path, scratch.hits(), axis, d[axis] / 2, scale)?;
+            self.write_slice(&path, &scratch.hits(), axis, d[axis] / 2, scale)?;
             written.push(path);
         }
         Ok(written)

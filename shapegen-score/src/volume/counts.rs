@@ -46,34 +46,55 @@ pub struct VolumeCounts {
     pub outside: u64,
 }
 
+/// A scratch cell: the hit count in the low 7 bits (saturating at 127),
+/// whether the cell is a target cell in the top bit (copied from the scene,
+/// so that counting reads one byte a cell).
+const TARGET: u8 = 0x80;
+const HITS: u8 = 0x7f;
+
 /// Adds one instance's span to the hit counts and `counts`: branch-free per
 /// cell (instances overlap at random, so branches would mispredict), with
-/// the sums kept in registers for the span.
+/// the sums kept in registers for the span. `weight` is the scene's weight
+/// per cell, or `None` when it depends on target membership alone (the sum
+/// is then `good · w_target + bad · w_other`, added by the caller).
 #[inline]
-fn count_span(hits: &mut [u8], weight: &[f32], target: &[bool], counts: &mut VolumeCounts) {
+fn count_span(cells: &mut [u8], weight: Option<&[f32]>, counts: &mut VolumeCounts) -> (u64, u64) {
     let (mut w_sum, mut first, mut good, mut second, mut again) = (0.0f64, 0u64, 0u64, 0u64, 0u64);
-    for ((h, &w), &t) in hits.iter_mut().zip(weight).zip(target) {
-        let old = *h;
-        *h = old.saturating_add(1);
-        let is_first = u64::from(old == 0);
-        w_sum += if old == 0 { f64::from(w) } else { 0.0 };
+    let mut add = |c: &mut u8| {
+        let old = *c;
+        let h = old & HITS;
+        *c = old + u8::from(h < HITS);
+        let is_first = u64::from(h == 0);
         first += is_first;
-        good += is_first & u64::from(t);
-        second += u64::from(old == 1);
-        again += u64::from(old != 0);
+        good += is_first & u64::from(old >> 7);
+        second += u64::from(h == 1);
+        again += u64::from(h != 0);
+        h == 0
+    };
+    match weight {
+        None => cells.iter_mut().for_each(|c| {
+            add(c);
+        }),
+        Some(weight) => {
+            for (c, &w) in cells.iter_mut().zip(weight) {
+                w_sum += if add(c) { f64::from(w) } else { 0.0 };
+            }
+        }
     }
     counts.weight += w_sum;
     counts.good += good;
     counts.bad += first - good;
     counts.overlap_cells += second;
     counts.overlap_hits += again;
+    (good, first - good)
 }
 
-/// Per-thread working memory of volume evaluations: hit counts per cell
-/// (all zero between evaluations), the runs to reset, and the voxelizer.
+/// Per-thread working memory of volume evaluations: per cell its hit count
+/// (all zero between evaluations) and target flag, the runs to reset, and
+/// the voxelizer.
 #[derive(Clone, Debug)]
 pub struct VolumeScratch {
-    hits: Vec<u8>,
+    cells: Vec<u8>,
     touched: Vec<(u32, u32)>,
     voxelizer: Voxelizer,
     counts: VolumeCounts,
@@ -84,14 +105,18 @@ impl VolumeScratch {
     #[must_use]
     pub fn new(scene: &VolumeScene) -> Self {
         Self {
-            hits: vec![0; scene.grid.len()],
+            cells: scene
+                .target
+                .iter()
+                .map(|&t| if t { TARGET } else { 0 })
+                .collect(),
             touched: Vec::new(),
             voxelizer: Voxelizer::new(),
             counts: VolumeCounts::default(),
         }
     }
 
-    /// The memory of one scratch over `grid` (bytes): one hit count a cell.
+    /// The memory of one scratch over `grid` (bytes): one byte a cell.
     #[must_use]
     pub fn bytes_needed(grid: &Grid) -> u64 {
         grid.len() as u64
@@ -100,7 +125,9 @@ impl VolumeScratch {
     /// Starts counting a new model.
     pub fn begin(&mut self) {
         for &(start, len) in &self.touched {
-            self.hits[start as usize..(start + len) as usize].fill(0);
+            for c in &mut self.cells[start as usize..(start + len) as usize] {
+                *c &= TARGET;
+            }
         }
         self.touched.clear();
         self.counts = VolumeCounts::default();
@@ -109,7 +136,7 @@ impl VolumeScratch {
     /// Adds one instance of `solid`, placed by `transform`.
     pub fn add(&mut self, scene: &VolumeScene, solid: &Solid, transform: &Affine3A) {
         let Self {
-            hits,
+            cells: scratch,
             touched,
             voxelizer,
             counts,
@@ -119,6 +146,7 @@ impl VolumeScratch {
         if !by_solid {
             counts.outside += aabb_cells_outside(grid, solid, transform);
         }
+        let (mut good, mut bad) = (0u64, 0u64);
         voxelizer.spans(grid, solid, transform, |s| {
             let cells = in_grid(grid, s);
             if by_solid {
@@ -129,13 +157,17 @@ impl VolumeScratch {
             }
             let (a, b) = (cells.start, cells.end);
             touched.push((a as u32, (b - a) as u32));
-            count_span(
-                &mut hits[a..b],
-                &scene.weight[a..b],
-                &scene.target[a..b],
-                counts,
-            );
+            let weight = match scene.uniform {
+                Some(_) => None,
+                None => Some(&scene.weight[a..b]),
+            };
+            let (g, w) = count_span(&mut scratch[a..b], weight, counts);
+            good += g;
+            bad += w;
         });
+        if let Some((w_target, w_other)) = scene.uniform {
+            counts.weight += good as f64 * f64::from(w_target) + bad as f64 * f64::from(w_other);
+        }
     }
 
     /// The counts of the model added since [`begin`](Self::begin).
@@ -144,10 +176,16 @@ impl VolumeScratch {
         self.counts
     }
 
-    /// How many instances hit each cell (saturating at 255), indexed like
+    /// How many instances hit each cell (saturating at 127), indexed like
     /// [`Grid::index`], for the model added since [`begin`](Self::begin).
     #[must_use]
-    pub fn hits(&self) -> &[u8] {
-        &self.hits
+    pub fn hits(&self) -> Vec<u8> {
+        self.cells.iter().map(|c| c & HITS).collect()
+    }
+
+    /// How many instances hit cell `i` (linear index), saturating at 127.
+    #[must_use]
+    pub fn hits_at(&self, i: usize) -> u8 {
+        self.cells[i] & HITS
     }
 }

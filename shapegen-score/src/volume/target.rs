@@ -55,6 +55,10 @@ pub struct VolumeScene {
     pub(super) members: Vec<Vec<bool>>,
     /// `Σ_i w̃_i`: the weight of a model cell outside the grid (outside every target).
     pub(super) outside_sum: f64,
+    /// `(C of target cells, C of other cells)` when the weight depends on
+    /// target membership alone (one target, say): counting then reads no
+    /// weights.
+    pub(super) uniform: Option<(f32, f32)>,
     pub(super) outside_count: OutsideCount,
     pub(super) warnings: Vec<String>,
 }
@@ -159,9 +163,12 @@ impl VolumeScene {
             });
         }
         warnings.extend(empty.iter().flatten().cloned());
+        let weight: Vec<f32> = weight.into_iter().map(|w| w as f32).collect();
+        let uniform = uniform_weights(&weight, &target);
         Ok(Self {
             grid,
-            weight: weight.into_iter().map(|w| w as f32).collect(),
+            uniform,
+            weight,
             target,
             target_cells,
             members,
@@ -252,6 +259,21 @@ impl VolumeScene {
     pub fn is_target(&self, i: usize) -> bool {
         self.target[i]
     }
+}
+
+/// `(w_target, w_other)` if every target cell has weight `w_target` and
+/// every other cell `w_other` (bit for bit).
+fn uniform_weights(weight: &[f32], target: &[bool]) -> Option<(f32, f32)> {
+    let of = |want: bool| {
+        let mut it = weight
+            .iter()
+            .zip(target)
+            .filter(|&(_, &t)| t == want)
+            .map(|(w, _)| w.to_bits());
+        let first = it.next().unwrap_or(0);
+        it.all(|w| w == first).then_some(f32::from_bits(first))
+    };
+    Some((of(true)?, of(false)?))
 }
 
 /// Why target `t` covers no cell of `grid`, in words.
