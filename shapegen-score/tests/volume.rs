@@ -359,9 +359,15 @@ fn many_instances_on_one_cell_saturate_the_hit_count_only() {
     assert!(cells > 0);
     assert_eq!(c.overlap_cells, cells);
     assert_eq!(c.overlap_hits, 199 * cells);
-    assert_eq!(scratch.hits().iter().filter(|&&h| h == 127).count() as u64, cells);
+    assert_eq!(
+        scratch.hits().iter().filter(|&&h| h == 127).count() as u64,
+        cells
+    );
     // The target flags survive the reset: the same model counts the same.
     scratch.begin();
     scratch.add(&scene, &solid, &t);
-    assert_eq!((scratch.counts().good, scratch.counts().bad), (c.good, c.bad));
+    assert_eq!(
+        (scratch.counts().good, scratch.counts().bad),
+        (c.good, c.bad)
+    );
 }
