@@ -277,11 +277,13 @@ impl MeshSolid {
     pub fn new(mesh: &Mesh) -> Self {
         let welded = mesh.with_welded_vertices();
         let positions: Vec<DVec3> = welded.positions.iter().map(|p| p.as_dvec3()).collect();
+        // Welded already: the welding inside finds nothing more to merge.
+        let boundary_edges = boundary_edges(&welded);
         Self {
             bounds: bounds(&positions),
             positions,
             triangles: welded.triangles,
-            boundary_edges: boundary_edges(mesh),
+            boundary_edges,
             winding: None,
         }
     }

@@ -127,13 +127,14 @@ impl VolumeScene {
                     m.boundary_edges()
                 ));
             }
-            inside.iter_mut().for_each(|c| *c = false);
+            inside.fill(false);
+            // One target's spans never overlap (each row's crossings in pairs).
+            let mut cells = 0u64;
             vox.spans(&grid, &solid, &Affine3A::IDENTITY, |s| {
-                for i in in_grid(&grid, s) {
-                    inside[i] = true;
-                }
+                let span = in_grid(&grid, s);
+                cells += span.len() as u64;
+                inside[span].fill(true);
             });
-            let cells = inside.iter().filter(|&&c| c).count() as u64;
             if cells == 0 {
                 empty.push(Some(empty_target(&grid, t, &solid)));
             } else {
@@ -264,16 +265,17 @@ impl VolumeScene {
 /// `(w_target, w_other)` if every target cell has weight `w_target` and
 /// every other cell `w_other` (bit for bit).
 fn uniform_weights(weight: &[f32], target: &[bool]) -> Option<(f32, f32)> {
-    let of = |want: bool| {
-        let mut it = weight
-            .iter()
-            .zip(target)
-            .filter(|&(_, &t)| t == want)
-            .map(|(w, _)| w.to_bits());
-        let first = it.next().unwrap_or(0);
-        it.all(|w| w == first).then_some(f32::from_bits(first))
-    };
-    Some((of(true)?, of(false)?))
+    // One pass: the first weight of each kind, and whether any differs.
+    let mut first: [Option<u32>; 2] = [None, None];
+    let mut same = true;
+    for (w, &t) in weight.iter().zip(target) {
+        let bits = w.to_bits();
+        same &= *first[usize::from(t)].get_or_insert(bits) == bits;
+    }
+    same.then(|| {
+        let w = |k: usize| f32::from_bits(first[k].unwrap_or(0));
+        (w(1), w(0))
+    })
 }
 
 /// Why target `t` covers no cell of `grid`, in words.
