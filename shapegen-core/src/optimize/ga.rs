@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use super::checkpoint::{Checkpoint, RunId, SavedIndividual, SavedState};
 use super::fitness::is_valid_score;
-use super::progress::{Candidate, Progress, evaluate};
+use super::progress::{Candidate, Progress, evaluate, evaluate_until};
 use super::scratch::ScratchPool;
 use super::selection::{Roulette, RouletteShift, rank_order, tournament};
 use super::{Budget, Fitness, Individual, Observer, OptimizeError, Optimizer, RunResult, purpose};
@@ -255,8 +255,16 @@ impl Optimizer for Ga {
                     .collect::<Result<Vec<_>, _>>()?
             }
             None => {
-                let (population, fresh) =
-                    evaluate(fitness, self.initial_population(graph, seed)?, &pool, None);
+                // Stopped by Ctrl-C or the clock like any generation: a
+                // generation 0 slower than the budget ends at the budget,
+                // with the models evaluated by then (the rest are NaN).
+                let (population, fresh) = evaluate_until(
+                    fitness,
+                    self.initial_population(graph, seed)?,
+                    &pool,
+                    progress.stop_flag(),
+                    progress.deadline(),
+                );
                 progress.evaluations += fresh;
                 population
             }
@@ -382,6 +390,43 @@ mod tests {
             firsts[first_nan..].iter().all(|f| f.is_nan()),
             "NaN sorted last: {firsts:?}"
         );
+    }
+
+    /// A generation 0 slower than the wall-clock budget ends at the budget
+    /// with the models evaluated by then (the paper's huge shapes can make
+    /// one evaluation take seconds): 40 models of 20 ms each on one thread
+    /// would take 0.8 s; the budget is 0.1 s.
+    #[test]
+    fn a_slow_initial_population_stops_at_the_budget() {
+        let g = graph();
+        let f = FnFitness(|c: &Chromosome| {
+            std::thread::sleep(std::time::Duration::from_millis(20));
+            c.len() as f64
+        });
+        let ga = Ga::new(GaParams {
+            population: 40,
+            elites: 5,
+            init: InitLength::Between { lo: 2, hi: 20 },
+            ..GaParams::default()
+        });
+        let budget = Budget {
+            wall_time: Some(std::time::Duration::from_millis(100)),
+            ..Budget::default()
+        };
+        let r = ga.run(&g, &f, &budget, 1, &mut NoObserver).unwrap();
+        assert_eq!(r.generations, 0);
+        assert!(
+            r.evaluations >= 1 && r.evaluations < 40,
+            "{} evaluations",
+            r.evaluations
+        );
+        assert!(r.best_fitness.is_finite());
+        let valid = r
+            .population
+            .iter()
+            .filter(|i| i.fitness.is_finite())
+            .count() as u64;
+        assert_eq!(valid, r.evaluations, "the skipped models are NaN");
     }
 
     #[test]

@@ -47,8 +47,25 @@ pub(crate) fn evaluate<F: Fitness>(
     pool: &ScratchPool<F::Scratch>,
     stop: Option<&AtomicBool>,
 ) -> (Vec<Individual>, u64) {
-    let fresh = candidates.iter().filter(|c| c.fitness.is_none()).count() as u64;
-    let stopped = || stop.is_some_and(|s| s.load(Ordering::Relaxed));
+    evaluate_until(fitness, candidates, pool, stop, None)
+}
+
+/// [`evaluate`], also skipping the evaluations not started by `deadline`:
+/// for an initial population, which no generation end can stop and which
+/// may take longer than the whole budget (a model covering the whole grid
+/// at every instance). Only evaluations that were done are counted.
+pub(crate) fn evaluate_until<F: Fitness>(
+    fitness: &F,
+    candidates: Vec<Candidate>,
+    pool: &ScratchPool<F::Scratch>,
+    stop: Option<&AtomicBool>,
+    deadline: Option<Instant>,
+) -> (Vec<Individual>, u64) {
+    let done = std::sync::atomic::AtomicU64::new(0);
+    let stopped = || {
+        stop.is_some_and(|s| s.load(Ordering::Relaxed))
+            || deadline.is_some_and(|d| Instant::now() >= d)
+    };
     let individuals = candidates
         .into_par_iter()
         .map_init(
@@ -58,6 +75,7 @@ pub(crate) fn evaluate<F: Fitness>(
                     if stopped() {
                         f64::NAN
                     } else {
+                        done.fetch_add(1, Ordering::Relaxed);
                         fitness.evaluate(&c.chromosome, scratch)
                     }
                 });
@@ -68,7 +86,7 @@ pub(crate) fn evaluate<F: Fitness>(
             },
         )
         .collect();
-    (individuals, fresh)
+    (individuals, done.into_inner())
 }
 
 /// Counts, best-so-far, observer and budget of one run.
@@ -222,6 +240,12 @@ impl<'o> Progress<'o> {
             return Some(StopReason::Observer);
         }
         self.budget_reached_at(elapsed)
+    }
+
+    /// When the wall-clock budget runs out, if it has one.
+    pub fn deadline(&self) -> Option<Instant> {
+        let left = self.budget.wall_time?.saturating_sub(self.offset);
+        self.start.checked_add(left)
     }
 
     /// The interrupt flag to pass to [`evaluate`].
