@@ -167,6 +167,29 @@ fn tree_volume_fitness(target: &str, n: u32, good: f64, bad: f64) -> Option<Volu
         .map(|f| f.with_limits(limits))
 }
 
+/// Benchmarks evaluating every one of `models` in turn on one thread, with
+/// one scratch (as one worker thread does).
+fn bench_models<F: Fitness>(
+    c: &mut Criterion,
+    group: &str,
+    name: &str,
+    fitness: &F,
+    models: &[Chromosome],
+) {
+    let mut group = c.benchmark_group(group);
+    group.throughput(Throughput::Elements(models.len() as u64));
+    let mut scratch = fitness.scratch();
+    group.bench_function(name, |b| {
+        b.iter(|| {
+            models
+                .iter()
+                .map(|m| fitness.evaluate(m, &mut scratch))
+                .sum::<f64>()
+        })
+    });
+    group.finish();
+}
+
 fn bench_score(c: &mut Criterion) {
     if let Some(fitness) = spaceship_fitness() {
         let mut rng = stream(3, &[]);
@@ -219,18 +242,7 @@ fn bench_score(c: &mut Criterion) {
                     .unwrap()
             })
             .collect();
-        let mut group = c.benchmark_group("score/tree_sketch");
-        group.throughput(Throughput::Elements(trees.len() as u64));
-        let mut scratch = fitness.scratch();
-        group.bench_function(name, |b| {
-            b.iter(|| {
-                trees
-                    .iter()
-                    .map(|t| fitness.evaluate(t, &mut scratch))
-                    .sum::<f64>()
-            })
-        });
-        group.finish();
+        bench_models(c, "score/tree_sketch", name, &fitness, &trees);
     }
 
     // Trees in volumes: ~100 leaves a tree, each a small open non-convex mesh.
@@ -254,18 +266,7 @@ fn bench_score(c: &mut Criterion) {
                     .unwrap()
             })
             .collect();
-        let mut group = c.benchmark_group("score/tree_volume");
-        group.throughput(Throughput::Elements(trees.len() as u64));
-        let mut scratch = fitness.scratch();
-        group.bench_function(name, |b| {
-            b.iter(|| {
-                trees
-                    .iter()
-                    .map(|t| fitness.evaluate(t, &mut scratch))
-                    .sum::<f64>()
-            })
-        });
-        group.finish();
+        bench_models(c, "score/tree_volume", name, &fitness, &trees);
     }
 
     if let Some(path) = data("models/stanford-bunny.obj") {
