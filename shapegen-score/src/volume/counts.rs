@@ -58,7 +58,7 @@ const HITS: u8 = 0x7f;
 /// per cell, or `None` when it depends on target membership alone (the sum
 /// is then `good · w_target + bad · w_other`, added by the caller).
 #[inline]
-fn count_span(cells: &mut [u8], weight: Option<&[f32]>, counts: &mut VolumeCounts) -> (u64, u64) {
+fn count_span(cells: &mut [u8], weight: Option<&[f32]>, counts: &mut VolumeCounts) {
     let (mut w_sum, mut first, mut good, mut second, mut again) = (0.0f64, 0u64, 0u64, 0u64, 0u64);
     let mut add = |c: &mut u8| {
         let old = *c;
@@ -86,7 +86,6 @@ fn count_span(cells: &mut [u8], weight: Option<&[f32]>, counts: &mut VolumeCount
     counts.bad += first - good;
     counts.overlap_cells += second;
     counts.overlap_hits += again;
-    (good, first - good)
 }
 
 /// Per-thread working memory of volume evaluations: per cell its hit count
@@ -146,7 +145,7 @@ impl VolumeScratch {
         if !by_solid {
             counts.outside += aabb_cells_outside(grid, solid, transform);
         }
-        let (mut good, mut bad) = (0u64, 0u64);
+        let (good, bad) = (counts.good, counts.bad);
         voxelizer.spans(grid, solid, transform, |s| {
             let cells = in_grid(grid, s);
             if by_solid {
@@ -161,11 +160,11 @@ impl VolumeScratch {
                 Some(_) => None,
                 None => Some(&scene.weight[a..b]),
             };
-            let (g, w) = count_span(&mut scratch[a..b], weight, counts);
-            good += g;
-            bad += w;
+            count_span(&mut scratch[a..b], weight, counts);
         });
         if let Some((w_target, w_other)) = scene.uniform {
+            // This instance's newly covered cells, of each kind.
+            let (good, bad) = (counts.good - good, counts.bad - bad);
             counts.weight += good as f64 * f64::from(w_target) + bad as f64 * f64::from(w_other);
         }
     }

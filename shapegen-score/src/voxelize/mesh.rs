@@ -141,9 +141,8 @@ fn rows_between(grid: &Grid, axis: usize, lo: f64, hi: f64) -> Range<i64> {
 }
 
 impl Voxelizer {
-    /// Places the triangles of `m` (and `extra` local triangles, e.g. a
-    /// winding cone) in the world.
-    pub(super) fn place(&mut self, m: &MeshSolid, extra: &[[glam::DVec3; 3]], to_world: &DAffine3) {
+    /// Places the triangles of `m` in the world.
+    pub(super) fn place(&mut self, m: &MeshSolid, to_world: &DAffine3) {
         self.world.clear();
         self.world
             .extend(m.positions().iter().map(|&p| to_world.transform_point3(p)));
@@ -153,11 +152,6 @@ impl Voxelizer {
             m.triangle_indices()
                 .iter()
                 .map(|t| RowTri::new(t.map(|i| world[i as usize]))),
-        );
-        self.tris.extend(
-            extra
-                .iter()
-                .map(|t| RowTri::new(t.map(|p| to_world.transform_point3(p)))),
         );
     }
 
@@ -209,7 +203,7 @@ impl Voxelizer {
         r: &Rows,
         mut f: impl FnMut(Span),
     ) {
-        self.place(m, &[], to_world);
+        self.place(m, to_world);
         let keys = RowKeys::new(grid, r);
         self.cross_rows(grid, &keys);
         for row in self.keys.chunk_by(|a, b| a >> 32 == b >> 32) {

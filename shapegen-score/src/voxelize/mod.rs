@@ -6,8 +6,9 @@
 //! its interval analytically ([`convex`]). Other meshes are placed in the
 //! world and rasterized by scanline ([`mesh`]): each triangle's projection
 //! onto the yz plane gives the rows whose lines pierce it, the crossing's x
-//! gives the first cell at or after it, and one sort puts every row's
-//! crossings in order; no acceleration structure is built or walked. The
+//! gives the first cell at or after it, and the crossings, counted into
+//! their rows and sorted within each, come out in order; no acceleration
+//! structure is built or walked. The
 //! sorted crossings, taken in pairs, give spans `[a, b)`; the cells whose
 //! centres lie in a span are inside. [`winding`] decides meshes with holes
 //! by their generalized winding number instead.

@@ -21,7 +21,7 @@ use glam::{DAffine3, DVec3};
 use super::mesh::RowKeys;
 use super::{Rows, Span, Voxelizer};
 use crate::grid::Grid;
-use crate::solid::{MeshSolid, Winding, solid_angle};
+use crate::solid::{MeshSolid, RowTri, Winding, solid_angle};
 
 /// Cone triangles per cluster, at most.
 const CLUSTER: usize = 8;
@@ -92,15 +92,18 @@ impl Voxelizer {
         r: &Rows,
         mut f: impl FnMut(Span),
     ) {
-        self.place(m, w.reversed_cone(), to_world);
-        let keys = RowKeys::new(grid, r);
-        self.cross_rows(grid, &keys);
+        // The cone is placed once: its triangles cross the rows with the
+        // mesh's, and its clusters bound the solid angles.
+        self.place(m, to_world);
         self.cone.clear();
         self.cone.extend(
             w.reversed_cone()
                 .iter()
                 .map(|t| t.map(|p| to_world.transform_point3(p))),
         );
+        self.tris.extend(self.cone.iter().map(|&t| RowTri::new(t)));
+        let keys = RowKeys::new(grid, r);
+        self.cross_rows(grid, &keys);
         self.clusters.clear();
         cluster(&mut self.cone, 0, &mut self.clusters);
         let x_cells = r.x_cells(grid);

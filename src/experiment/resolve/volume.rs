@@ -64,16 +64,14 @@ pub(super) fn from_file(
         entries.push(start..targets.len());
     }
     // The scene and one scratch per worker thread, before they are allocated.
+    let threads = rayon::current_num_threads();
     let bytes = VolumeScene::bytes_needed(&grid, entries.len())
-        + rayon::current_num_threads() as u64 * VolumeScratch::bytes_needed(&grid);
+        + threads as u64 * VolumeScratch::bytes_needed(&grid);
     let d = grid.dims();
     crate::experiment::memory::check(
         &format!(
-            "the {} × {} × {} grid (with {} worker threads)",
-            d.x,
-            d.y,
-            d.z,
-            rayon::current_num_threads()
+            "the {} × {} × {} grid (with {threads} worker threads)",
+            d.x, d.y, d.z
         ),
         bytes,
         crate::experiment::memory::available(),
