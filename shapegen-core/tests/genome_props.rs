@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 use crate::common::{Tree, path_of};
 use proptest::prelude::*;
 use rand::RngExt;
+use shapegen_core::ops::UNBOUNDED_CAP;
 use shapegen_core::prelude::*;
 use shapegen_core::rng::{ShapeRng, stream};
 
@@ -185,6 +186,54 @@ proptest! {
                     pop[k] = c;
                 }
             }
+        }
+    }
+
+    /// The default model and uncontrolled generation always give valid
+    /// chromosomes within the limits. The default model has every parameter
+    /// at its central value, and, when it did not have to grow to `L_min`
+    /// or stop at `L_max`, every slot with `p >= ½` (and only those)
+    /// expressed wherever the depth limit allows.
+    #[test]
+    fn default_and_uncontrolled_models_are_valid(graph in crate::common::graph(), seed in any::<u64>()) {
+        let limits = *graph.limits();
+        // Unbounded chains reach UNBOUNDED_CAP genes deep: too deep for the
+        // recursive naive tree, so only `validate` checks those.
+        let valid = |c: &Chromosome, what: &str| {
+            if c.max_depth(&graph) < 200 {
+                check_valid(&graph, c, what)
+            } else {
+                c.validate(&graph).map_err(|e| TestCaseError::fail(format!("{what}: {e}")))
+            }
+        };
+        let d = default_model(&graph).expect("graph reaches L_min");
+        valid(&d, "default_model")?;
+        prop_assert!(limits.allows_len(d.len() as u32) || limits.max_len.is_none());
+        prop_assert!(d.len() as u32 <= limits.max_len.map_or(UNBOUNDED_CAP, |m| m - 1));
+        let capped = d.len() as u32 + 1 >= limits.max_len.unwrap_or(UNBOUNDED_CAP + 1);
+        let grown = d.len() as u32 == limits.min_len;
+        for g in d.genes(&graph) {
+            let node = graph.node(g.node());
+            for (k, p) in node.params.iter().enumerate() {
+                let mut central = vec![0; p.dist.kind().words()];
+                p.dist.central_into(&mut central);
+                prop_assert!(p.dist.contains(&central));
+                prop_assert_eq!(g.param(k), &central[..]);
+            }
+            if capped || grown {
+                continue;
+            }
+            let room = limits.allows_depth(d.depth(g.pos()) + 1);
+            for (j, slot) in node.slots.iter().enumerate() {
+                prop_assert_eq!(g.child(j).is_some(), room && slot.p >= 0.5, "slot {} of {}", j, node.name);
+            }
+        }
+        let mut rng = stream(seed, &[]);
+        for _ in 0..8 {
+            let c = uncontrolled(&graph, &mut rng).expect("graph reaches L_min");
+            valid(&c, "uncontrolled")?;
+            prop_assert!(c.len() as u32 >= limits.min_len);
+            prop_assert!(c.len() as u32 <= limits.max_len.map_or(UNBOUNDED_CAP, |m| m - 1));
         }
     }
 

@@ -186,6 +186,21 @@ impl Chromosome {
         slot: u32,
         rng: &mut R,
     ) -> u32 {
+        self.push_gene_with(graph, node, parent, slot, |dist, out| {
+            dist.sample_into(rng, out);
+        })
+    }
+
+    /// [`push_gene`](Self::push_gene) with each parameter's words set by
+    /// `fill` (which must write a value in the parameter's support).
+    pub(crate) fn push_gene_with(
+        &mut self,
+        graph: &Graph,
+        node: NodeId,
+        parent: u32,
+        slot: u32,
+        mut fill: impl FnMut(&crate::graph::ParamDist, &mut [u32]),
+    ) -> u32 {
         let pos = self.words.len();
         let layout = graph.layout(node);
         let is_root = pos == 0;
@@ -204,7 +219,7 @@ impl Chromosome {
         for (p, &off) in graph.node(node).params.iter().zip(&layout.param_offsets) {
             let start = params_at + off as usize;
             let n = p.dist.kind().words();
-            p.dist.sample_into(rng, &mut self.words[start..start + n]);
+            fill(&p.dist, &mut self.words[start..start + n]);
         }
         if !is_root {
             self.words[parent as usize + word::SLOTS + slot as usize] =

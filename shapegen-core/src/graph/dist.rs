@@ -70,6 +70,37 @@ impl Dist {
         Self::TruncatedNormal { mean, std, lo, hi }
     }
 
+    /// The central value: the constant, the uniform's midpoint, the mean
+    /// (clamped into a truncated normal's range). Always in the support.
+    #[must_use]
+    pub fn central(&self) -> f32 {
+        match *self {
+            Self::Constant { value } => value,
+            Self::Uniform { lo, hi } => (0.5 * (f64::from(lo) + f64::from(hi))) as f32,
+            Self::Normal { mean, .. } => mean,
+            Self::TruncatedNormal { mean, lo, hi, .. } => mean.clamp(lo, hi),
+        }
+        .clamp(self.lower(), self.upper())
+    }
+
+    /// The support's smallest value (−∞ for a normal).
+    fn lower(&self) -> f32 {
+        match *self {
+            Self::Constant { value } => value,
+            Self::Uniform { lo, .. } | Self::TruncatedNormal { lo, .. } => lo,
+            Self::Normal { .. } => f32::NEG_INFINITY,
+        }
+    }
+
+    /// The support's largest value (+∞ for a normal).
+    fn upper(&self) -> f32 {
+        match *self {
+            Self::Constant { value } => value,
+            Self::Uniform { hi, .. } | Self::TruncatedNormal { hi, .. } => hi,
+            Self::Normal { .. } => f32::INFINITY,
+        }
+    }
+
     /// Why this distribution has an empty or ill-defined support, if it does.
     pub fn problem(&self) -> Option<&'static str> {
         let finite = |xs: &[f32]| xs.iter().all(|x| x.is_finite());
@@ -191,6 +222,16 @@ impl IntDist {
         match *self {
             Self::Uniform { lo, hi } if lo > hi => Some("integer range is inverted (lo > hi)"),
             _ => None,
+        }
+    }
+
+    /// The central value: the constant, or the range's midpoint rounded
+    /// down. Always in the support.
+    #[must_use]
+    pub fn central(&self) -> i32 {
+        match *self {
+            Self::Constant { value } => value,
+            Self::Uniform { lo, hi } => ((i64::from(lo) + i64::from(hi)).div_euclid(2)) as i32,
         }
     }
 

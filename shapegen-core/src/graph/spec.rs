@@ -110,6 +110,32 @@ impl ParamDist {
         }
     }
 
+    /// Writes the distribution's central value into `out` (`out.len()` must
+    /// equal the kind's word count): a constant's value, a uniform's
+    /// midpoint, a normal's mean (clamped into a truncated normal's range),
+    /// an integer range's midpoint rounded down, a choice's most likely
+    /// option (the first of equals). Always in the support; what a
+    /// generator's default model uses.
+    pub fn central_into(&self, out: &mut [u32]) {
+        match self {
+            Self::Int(d) => out[0] = d.central() as u32,
+            Self::Choice(w) => {
+                let mut best = 0;
+                for (i, &x) in w.iter().enumerate() {
+                    if x > w[best] {
+                        best = i;
+                    }
+                }
+                out[0] = best as u32;
+            }
+            _ => {
+                for (o, d) in out.iter_mut().zip(self.components()) {
+                    *o = d.central().to_bits();
+                }
+            }
+        }
+    }
+
     /// Whether the stored value `words` lies in the support.
     #[must_use]
     pub fn contains(&self, words: &[u32]) -> bool {

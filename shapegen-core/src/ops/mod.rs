@@ -1,6 +1,7 @@
 //! The genetic operators, exactly as the paper defines them: probability-
 //! weighted [`grow`] and [`cut`], [`alter`], subtree [`crossover`], and
-//! [`random_individual`]s.
+//! [`random_individual`]s; and the models made without an optimizer: a
+//! generator's [`default_model`] and [`uncontrolled`] generation.
 //!
 //! Every operator takes a valid chromosome and returns a valid one: a result
 //! that would break the graph's limits is never produced (the operator picks
@@ -10,6 +11,7 @@
 mod alter;
 mod crossover;
 mod cut;
+mod default;
 mod grow;
 mod init;
 mod sample;
@@ -18,6 +20,7 @@ pub use alter::{alter, alter_at};
 pub use crossover::{CrossoverConfig, EdgeMatch, crossover, crossover_at, crossover_into};
 pub(crate) use cut::cut_unchecked;
 pub use cut::{Cut, cut, cut_at};
+pub use default::{UNBOUNDED_CAP, default_model, uncontrolled};
 pub(crate) use grow::grow_unchecked;
 pub use grow::{Grower, Grown, grow, grow_at};
 pub use init::{InitLength, random_individual, random_individual_with};
