@@ -285,6 +285,12 @@ pub struct Projector {
 }
 
 impl Projector {
+    /// The constants `(cx, cy, sx, sy, perspective)`: pixel `x = cx + sx·X/Z`,
+    /// `y = cy − sy·Y/Z` (without the division when orthographic).
+    pub(crate) fn constants(&self) -> (f64, f64, f64, f64, bool) {
+        (self.cx, self.cy, self.sx, self.sy, self.perspective)
+    }
+
     /// Pixel coordinates of a view-space point (`Z > 0` for perspective).
     #[inline]
     #[must_use]

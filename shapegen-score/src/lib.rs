@@ -19,6 +19,11 @@
 //!   the exact centre-sampled silhouette [`Rasterizer`], [`ImageTarget`]s
 //!   (PNG sketches or signed weights) with overlays, [`ImageTargets`] and
 //!   the paper's [`ImageScore`]s.
+//! - Pictures: a z-buffered [`Renderer`] of expressed models into a
+//!   [`GBuffer`] (depth, face, normal, terminal type per pixel; the same
+//!   covered pixels as the [`Rasterizer`]), shaded with three-point
+//!   [`Lights`] in a [`Style`]; cameras fitted to a model's
+//!   [`BoundingSphere`].
 //! - [`ModelFitness`]: a generator's models scored against either scene, the
 //!   `Fitness` the optimizers run ([`VolumeFitness`], [`ImageFitness`]).
 //!
@@ -37,6 +42,7 @@ mod mesh;
 mod obj;
 mod quality;
 mod raster;
+mod render;
 mod shapes;
 mod solid;
 mod volume;
@@ -54,6 +60,10 @@ pub use mesh::{Mesh, Placement, fit_transform};
 pub use obj::{write_model, write_obj};
 pub use quality::Quality;
 pub use raster::{PixelSpan, RasterShape, Rasterizer};
+pub use render::{
+    Background, BoundingSphere, Face, GBuffer, Light, Lights, Palette, RenderMeshes, Renderer, Shading,
+    Style, fit_camera, fit_orthographic,
+};
 pub use shapes::ShapeMeshes;
 pub use solid::{Convex, Inside, MeshSolid, RowLine, RowTri, Solid, Winding, solid_angle};
 pub use volume::{

@@ -9,6 +9,8 @@ mod image;
 mod mesh;
 /// The silhouette rasterizer against per-pixel ray casting.
 mod raster;
+/// The renderer's G-buffer against the rasterizer and ray casting.
+mod render;
 /// Every mesh of `../shared/data` voxelized at 128³ (skipped without the data).
 mod real_data;
 /// Volume counts and scores against per-voxel references.

@@ -73,6 +73,14 @@ impl View {
     pub(crate) fn camera(&self) -> &Camera {
         &self.camera
     }
+    /// World to view space.
+    pub(crate) fn affine(&self) -> DAffine3 {
+        self.affine
+    }
+    /// View space to pixels.
+    pub(crate) fn projector(&self) -> Projector {
+        self.projector
+    }
 }
 
 /// A run of covered pixels: row `row`, columns `c0..c1` (exclusive).
@@ -101,7 +109,7 @@ pub struct Rasterizer {
 }
 
 /// A non-horizontal polygon edge: lower end, upper end, dx/dy.
-type Edge = (DVec2, DVec2, f64);
+pub(crate) type Edge = (DVec2, DVec2, f64);
 
 impl Rasterizer {
     /// Empty working memory.
@@ -245,7 +253,7 @@ fn bounds((lo, hi): (DVec2, DVec2), p: DVec2) -> (DVec2, DVec2) {
 }
 
 /// Clips a convex polygon in view space to `near <= Z <= far` (Sutherland–Hodgman).
-fn clip_depth(poly: &mut Vec<DVec3>, tmp: &mut Vec<DVec3>, near: f64, far: f64) {
+pub(crate) fn clip_depth(poly: &mut Vec<DVec3>, tmp: &mut Vec<DVec3>, near: f64, far: f64) {
     for (keep, limit) in [(1.0, near), (-1.0, far)] {
         // Inside: keep * (Z − limit) >= 0.
         tmp.clear();
@@ -283,7 +291,7 @@ fn row_range(ymin: f64, ymax: f64, h: f64) -> (f64, f64) {
 }
 
 /// Fills a convex polygon in pixel coordinates with the half-open centre rule.
-fn fill_convex(
+pub(crate) fn fill_convex(
     camera: &Camera,
     poly: &[DVec2],
     edges: &mut Vec<Edge>,
@@ -373,7 +381,7 @@ fn ceil_small(y: f64) -> i32 {
 /// b, the edge a–b, below it b–c; each edge's lower end and slope are those
 /// `fill_convex` uses, so the crossings are the same numbers.
 #[inline(always)]
-fn fill_triangle(camera: &Camera, tri: [DVec2; 3], f: &mut impl FnMut(PixelSpan)) {
+pub(crate) fn fill_triangle(camera: &Camera, tri: [DVec2; 3], f: &mut impl FnMut(PixelSpan)) {
     let [mut a, mut b, mut c] = tri;
     if !(a.is_finite() && b.is_finite() && c.is_finite()) {
         return;

@@ -1,0 +1,141 @@
+//! A model's bounding sphere and the cameras it fits tightly (thesis §3.3:
+//! "the camera is always placed at the distance where the model's minimal
+//! bounding sphere fits tightly into the frustum").
+
+use glam::DVec3;
+
+use crate::camera::Camera;
+use crate::error::ScoreError;
+
+/// A sphere holding every vertex of a model.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BoundingSphere {
+    /// Centre.
+    pub center: DVec3,
+    /// Radius (> 0: a single point gets a tiny positive radius).
+    pub radius: f64,
+}
+
+impl BoundingSphere {
+    /// A small sphere around `points` (all finite): Ritter's construction,
+    /// then passes that move the centre toward the farthest point while
+    /// every point stays inside, which brings it within a few per cent of
+    /// the minimal sphere. `None` for no points.
+    #[must_use]
+    pub fn of(points: &[DVec3]) -> Option<Self> {
+        let first = *points.first()?;
+        let farthest = |from: DVec3| {
+            points
+                .iter()
+                .copied()
+                .max_by(|a, b| a.distance_squared(from).total_cmp(&b.distance_squared(from)))
+                .unwrap_or(from)
+        };
+        let a = farthest(first);
+        let b = farthest(a);
+        let mut center = 0.5 * (a + b);
+        let mut radius = 0.5 * a.distance(b);
+        for p in points {
+            let d = p.distance(center);
+            if d > radius {
+                // Grow to hold p, keeping the far side where it was.
+                let grown = 0.5 * (radius + d);
+                center += (d - grown) / d * (*p - center);
+                radius = grown;
+            }
+        }
+        // Shrink: step toward the farthest point and keep the smaller
+        // sphere that still holds everything.
+        let mut step = 0.5;
+        for _ in 0..24 {
+            let far = farthest(center);
+            let candidate = center + step * 0.1 * (far - center);
+            let r = farthest(candidate).distance(candidate);
+            if r < radius {
+                center = candidate;
+                radius = r;
+            } else {
+                step *= 0.5;
+            }
+        }
+        let radius = farthest(center).distance(center);
+        let scale = center.abs().max_element().max(1e-30);
+        Some(Self {
+            center,
+            radius: radius.max(scale * 1e-9).max(1e-12),
+        })
+    }
+
+    /// The unit direction from the centre at `azimuth` (about +y, from +x
+    /// toward +z) and `elevation` above the ground plane, in radians.
+    #[must_use]
+    pub fn direction(azimuth: f64, elevation: f64) -> DVec3 {
+        DVec3::new(
+            elevation.cos() * azimuth.cos(),
+            elevation.sin(),
+            elevation.cos() * azimuth.sin(),
+        )
+    }
+}
+
+/// A perspective camera (right-handed, +y up on screen) looking at the
+/// sphere's centre from `direction` (from the centre toward the eye) at
+/// the distance where the sphere just touches the frustum's narrower
+/// sides: `d = R / sin(α/2)` with `α` the smaller of the two fields of view.
+pub fn fit_camera(
+    sphere: &BoundingSphere,
+    direction: DVec3,
+    fov_y: f64,
+    size: (u32, u32),
+) -> Result<Camera, ScoreError> {
+    let aspect = f64::from(size.0) / f64::from(size.1.max(1));
+    let fov_x = 2.0 * ((0.5 * fov_y).tan() * aspect).atan();
+    let half = 0.5 * fov_y.min(fov_x);
+    let d = sphere.radius / half.sin();
+    let dir = direction.normalize_or_zero();
+    let up = if dir.cross(DVec3::Y).length() < 1e-6 {
+        DVec3::Z
+    } else {
+        DVec3::Y
+    };
+    let near = ((d - sphere.radius) * 0.98).max(d * 1e-4);
+    let far = (d + sphere.radius) * 1.02;
+    Camera::look_at(
+        sphere.center + d * dir,
+        sphere.center,
+        up,
+        fov_y,
+        near,
+        far,
+        size,
+    )
+}
+
+/// An orthographic camera looking at the sphere's centre from `direction`,
+/// showing exactly the sphere's diameter across the narrower image side.
+/// Its screen is mirrored like [`Camera::orthographic`]'s (see [`Camera`]).
+pub fn fit_orthographic(
+    sphere: &BoundingSphere,
+    direction: DVec3,
+    size: (u32, u32),
+) -> Result<Camera, ScoreError> {
+    let dir = direction.normalize_or_zero();
+    let up = if dir.cross(DVec3::Y).length() < 1e-6 {
+        DVec3::Z
+    } else {
+        DVec3::Y
+    };
+    let aspect = f64::from(size.0) / f64::from(size.1.max(1));
+    // `height` is the vertical extent; the narrower side holds 2R.
+    let height = 2.0 * sphere.radius / aspect.min(1.0);
+    let d = 2.0 * sphere.radius;
+    Camera::orthographic(
+        sphere.center + d * dir,
+        -dir,
+        up,
+        height,
+        0.5 * sphere.radius,
+        d + 1.5 * sphere.radius,
+        size,
+    )
+}

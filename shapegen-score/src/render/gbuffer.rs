@@ -1,0 +1,257 @@
+//! [`GBuffer`]: what each pixel of a render sees, and [`Face`]: what is
+//! known of each rendered triangle.
+
+use glam::{DVec3, Vec3};
+
+use super::Plane;
+use crate::camera::Camera;
+use crate::raster::PixelSpan;
+
+/// No face: the background.
+const NONE: u32 = u32::MAX;
+
+/// One rendered triangle (one instance's triangle placed in the world).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Face {
+    /// Its terminal type: the shape id of the instance it belongs to.
+    pub terminal: u16,
+    /// Unit normal in view space (right, up, forward), turned to face the
+    /// camera (meshes are seen from both sides); `(0, 0, −1)` for a
+    /// degenerate triangle.
+    pub normal: Vec3,
+    /// Its area in world units².
+    pub area: f64,
+    /// Pixels it covers before occlusion (its centre-rule coverage).
+    pub drawn: u32,
+    /// Pixels where it is the nearest surface.
+    pub visible: u32,
+    /// `(b − a) × (c − a)` in view space (the plane's normal, not unit).
+    pub(crate) raw_normal: DVec3,
+}
+
+impl Face {
+    /// The face of view-space triangle `v` of terminal type `terminal`.
+    pub(crate) fn new(v: [DVec3; 3], terminal: u16, perspective: bool) -> Self {
+        let raw = (v[1] - v[0]).cross(v[2] - v[0]);
+        let len = raw.length();
+        // From the eye toward the triangle.
+        let towards = if perspective {
+            (v[0] + v[1] + v[2]) / 3.0
+        } else {
+            DVec3::Z
+        };
+        let normal = if len > 0.0 && len.is_finite() {
+            let n = raw / len;
+            if n.dot(towards) > 0.0 { -n } else { n }
+        } else {
+            DVec3::NEG_Z
+        };
+        Self {
+            terminal,
+            normal: normal.as_vec3(),
+            area: 0.5 * len,
+            drawn: 0,
+            visible: 0,
+            raw_normal: raw,
+        }
+    }
+}
+
+/// What each pixel of a render sees: the depth and face of the nearest
+/// surface at its centre (none for the background), and the table of
+/// faces. Pixels are row-major from the top-left.
+#[derive(Clone, Debug, Default)]
+pub struct GBuffer {
+    width: u32,
+    height: u32,
+    depth: Vec<f64>,
+    face: Vec<u32>,
+    faces: Vec<Face>,
+    terminals: usize,
+    /// `(cx, cy, sx, sy)` of the camera, for pixel solid angles.
+    projection: (f64, f64, f64, f64),
+    perspective: bool,
+}
+
+impl GBuffer {
+    /// Clears for a render by `camera` of models with `terminals` types.
+    pub(crate) fn reset(&mut self, camera: &Camera, terminals: usize) {
+        let n = camera.width as usize * camera.height as usize;
+        self.width = camera.width;
+        self.height = camera.height;
+        self.depth.clear();
+        self.depth.resize(n, f64::INFINITY);
+        self.face.clear();
+        self.face.resize(n, NONE);
+        self.faces.clear();
+        self.terminals = terminals;
+        let (cx, cy, sx, sy, perspective) = camera.projector().constants();
+        self.projection = (cx, cy, sx, sy);
+        self.perspective = perspective;
+    }
+
+    /// Adds a face; returns its index.
+    pub(crate) fn push_face(&mut self, face: Face) -> u32 {
+        self.faces.push(face);
+        (self.faces.len() - 1) as u32
+    }
+
+    /// Draws face `index` over span `s` with depths from `plane`: a pixel
+    /// takes the face if it is strictly nearer than what it holds.
+    #[inline]
+    pub(crate) fn span(&mut self, s: PixelSpan, index: u32, plane: &Plane) {
+        let row = s.row as usize * self.width as usize;
+        let (l0, b) = plane.row(f64::from(s.row) + 0.5);
+        let (depth, face) = (
+            &mut self.depth[row + s.c0 as usize..row + s.c1 as usize],
+            &mut self.face[row + s.c0 as usize..row + s.c1 as usize],
+        );
+        let mut x = f64::from(s.c0) + 0.5;
+        for (d, f) in depth.iter_mut().zip(face.iter_mut()) {
+            let z = plane.from_linear(l0 + b * x);
+            if z < *d {
+                *d = z;
+                *f = index;
+            }
+            x += 1.0;
+        }
+        self.faces[index as usize].drawn += s.c1 - s.c0;
+    }
+
+    /// Counts each face's visible pixels.
+    pub(crate) fn finish(&mut self) {
+        for &f in &self.face {
+            if f != NONE {
+                self.faces[f as usize].visible += 1;
+            }
+        }
+    }
+
+    /// Width in pixels.
+    #[must_use]
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Height in pixels.
+    #[must_use]
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// Number of pixels.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.face.len()
+    }
+
+    /// Whether the image has no pixels.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.face.is_empty()
+    }
+
+    /// Number of terminal types (shapes) the render could show.
+    #[must_use]
+    pub fn terminal_types(&self) -> usize {
+        self.terminals
+    }
+
+    /// Whether pixel `i` sees the model.
+    #[inline]
+    #[must_use]
+    pub fn covered(&self, i: usize) -> bool {
+        self.face[i] != NONE
+    }
+
+    /// Every pixel's coverage, row-major.
+    #[must_use]
+    pub fn coverage(&self) -> Vec<bool> {
+        self.face.iter().map(|&f| f != NONE).collect()
+    }
+
+    /// Number of covered pixels.
+    #[must_use]
+    pub fn covered_pixels(&self) -> usize {
+        self.face.iter().filter(|&&f| f != NONE).count()
+    }
+
+    /// The depth (view-space `Z`) of the surface at pixel `i`'s centre.
+    #[inline]
+    #[must_use]
+    pub fn depth(&self, i: usize) -> Option<f64> {
+        self.covered(i).then(|| self.depth[i])
+    }
+
+    /// The face seen at pixel `i`.
+    #[inline]
+    #[must_use]
+    pub fn face(&self, i: usize) -> Option<&Face> {
+        self.faces.get(self.face[i] as usize)
+    }
+
+    /// The index (into [`faces`](Self::faces)) of the face seen at pixel `i`.
+    #[inline]
+    #[must_use]
+    pub fn face_index(&self, i: usize) -> Option<u32> {
+        self.covered(i).then(|| self.face[i])
+    }
+
+    /// The terminal type seen at pixel `i`.
+    #[inline]
+    #[must_use]
+    pub fn terminal(&self, i: usize) -> Option<u16> {
+        self.face(i).map(|f| f.terminal)
+    }
+
+    /// The view-space normal seen at pixel `i` (facing the camera).
+    #[inline]
+    #[must_use]
+    pub fn normal(&self, i: usize) -> Option<Vec3> {
+        self.face(i).map(|f| f.normal)
+    }
+
+    /// Every rendered face, in drawing order.
+    #[must_use]
+    pub fn faces(&self) -> &[Face] {
+        &self.faces
+    }
+
+    /// Per terminal type: the visible surface area in world units², each
+    /// face counted with the fraction of its pixels that are visible.
+    #[must_use]
+    pub fn visible_area(&self) -> Vec<f64> {
+        let mut area = vec![0.0; self.terminals];
+        for f in &self.faces {
+            if f.visible > 0 {
+                area[f.terminal as usize] += f.area * f64::from(f.visible) / f64::from(f.drawn);
+            }
+        }
+        area
+    }
+
+    /// Per terminal type: the number of pixels where it is seen.
+    #[must_use]
+    pub fn terminal_pixels(&self) -> Vec<u64> {
+        let mut n = vec![0u64; self.terminals];
+        for f in &self.faces {
+            n[f.terminal as usize] += u64::from(f.visible);
+        }
+        n
+    }
+
+    /// The solid angle of pixel `i` relative to the image centre's (1 for
+    /// every pixel of an orthographic camera): `(1 + u² + v²)^(−3/2)` with
+    /// `(u, v)` the pixel centre's direction on the plane `Z = 1`.
+    #[must_use]
+    pub fn pixel_solid_angle(&self, i: usize) -> f64 {
+        if !self.perspective {
+            return 1.0;
+        }
+        let (cx, cy, sx, sy) = self.projection;
+        let w = self.width as usize;
+        let (c, r) = ((i % w) as f64 + 0.5, (i / w) as f64 + 0.5);
+        let (u, v) = ((c - cx) / sx, (r - cy) / sy);
+        (1.0 + u * u + v * v).powf(-1.5)
+    }
+}

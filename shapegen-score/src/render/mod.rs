@@ -1,0 +1,298 @@
+//! A z-buffered CPU renderer of expressed models: the pictures a user looks
+//! at and the G-buffers that view attributes are computed from (Lienhard's
+//! thesis, chapter 3).
+//!
+//! Each triangle is filled with the silhouette rasterizer's own row filling
+//! and centre rule (`raster::fill_triangle`, clipped to the depth range like
+//! the rasterizer's triangle path), so the set of covered pixels is exactly
+//! the [`Rasterizer`](crate::Rasterizer)'s coverage of the same instances
+//! and camera. A pixel keeps the nearest triangle at its centre: the depth
+//! is the exact intersection of the pixel's centre ray with the triangle's
+//! plane (one division a pixel), the face's normal, area and terminal type
+//! come from a per-face table ([`Face`]).
+//!
+//! - [`RenderMeshes`]: a generator's shape meshes prepared once;
+//! - [`Renderer`]: working memory; [`Renderer::render`] fills a [`GBuffer`],
+//!   [`Renderer::picture`] shades an image (with supersampling);
+//! - [`Style`]: three-point [`Lights`], a [`Palette`] per terminal type,
+//!   flat or Lambert [`Shading`], white or transparent [`Background`];
+//! - [`BoundingSphere`] and [`fit_camera`]: the camera at the distance where
+//!   the model's bounding sphere fits the frustum tightly.
+
+mod fit;
+mod gbuffer;
+mod shade;
+
+use glam::{DVec2, DVec3};
+use shapegen_core::express::Instance;
+
+pub use fit::{BoundingSphere, fit_camera, fit_orthographic};
+pub use gbuffer::{Face, GBuffer};
+pub use shade::{Background, Light, Lights, Palette, Shading, Style};
+pub(crate) use shade::luma;
+
+use crate::camera::Camera;
+use crate::error::ScoreError;
+use crate::raster::{Edge, View, clip_depth, fill_convex, fill_triangle};
+use crate::shapes::ShapeMeshes;
+
+/// One shape's mesh prepared for rendering.
+#[derive(Clone, Debug)]
+struct RenderMesh {
+    positions: Vec<DVec3>,
+    triangles: Vec<[u32; 3]>,
+}
+
+/// A generator's shape meshes prepared for rendering (checked and welded
+/// once), with the shapes' names for the palette.
+#[derive(Clone, Debug)]
+pub struct RenderMeshes {
+    meshes: Vec<RenderMesh>,
+    names: Vec<String>,
+}
+
+impl RenderMeshes {
+    /// Prepares every mesh of `shapes` (fails on a mesh the scorers would
+    /// refuse: no triangles, indices out of range, non-finite vertices).
+    pub fn new(shapes: &ShapeMeshes) -> Result<Self, ScoreError> {
+        let mut meshes = Vec::with_capacity(shapes.len());
+        let mut names = Vec::with_capacity(shapes.len());
+        for id in 0..shapes.len() as u16 {
+            let (name, mesh) = (shapes.name(id), shapes.mesh(id));
+            crate::solid::check(name, mesh)?;
+            let mesh = mesh.with_welded_vertices();
+            meshes.push(RenderMesh {
+                positions: mesh.positions.iter().map(|p| p.as_dvec3()).collect(),
+                triangles: mesh.triangles,
+            });
+            names.push(name.to_string());
+        }
+        Ok(Self { meshes, names })
+    }
+
+    /// Number of shapes (terminal types).
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.meshes.len()
+    }
+
+    /// Whether there are no shapes.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.meshes.is_empty()
+    }
+
+    /// The shapes' names, by shape id.
+    #[must_use]
+    pub fn names(&self) -> &[String] {
+        &self.names
+    }
+
+    /// The bounding sphere of `instances` (every vertex placed), or `None`
+    /// if there is nothing finite to bound.
+    #[must_use]
+    pub fn bounding_sphere(&self, instances: &[Instance]) -> Option<BoundingSphere> {
+        let mut points = Vec::new();
+        for inst in instances {
+            let Some(mesh) = self.meshes.get(inst.shape as usize) else {
+                continue;
+            };
+            let m = crate::voxelize::to_f64(&inst.transform);
+            points.extend(
+                mesh.positions
+                    .iter()
+                    .map(|p| m.transform_point3(*p))
+                    .filter(|p| p.is_finite()),
+            );
+        }
+        BoundingSphere::of(&points)
+    }
+}
+
+/// Reusable working memory for rendering.
+#[derive(Clone, Debug, Default)]
+pub struct Renderer {
+    gbuffer: GBuffer,
+    view: Vec<DVec3>,
+    pixels: Vec<DVec2>,
+    clip: Vec<DVec3>,
+    clip2: Vec<DVec3>,
+    hull: Vec<DVec2>,
+    edges: Vec<Edge>,
+}
+
+impl Renderer {
+    /// Empty working memory.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Renders `instances` of `meshes` seen by `camera` into the G-buffer
+    /// (returned; valid until the next render). Instances of unknown shapes
+    /// and instances with a non-finite vertex are skipped, as the scorers do.
+    pub fn render(
+        &mut self,
+        meshes: &RenderMeshes,
+        instances: &[Instance],
+        camera: &Camera,
+    ) -> &GBuffer {
+        self.gbuffer.reset(camera, meshes.len());
+        let view = View::new(camera);
+        for inst in instances {
+            if let Some(mesh) = meshes.meshes.get(inst.shape as usize) {
+                self.draw(&view, mesh, inst);
+            }
+        }
+        self.gbuffer.finish();
+        &self.gbuffer
+    }
+
+    /// The G-buffer of the last render.
+    #[must_use]
+    pub fn gbuffer(&self) -> &GBuffer {
+        &self.gbuffer
+    }
+
+    /// A shaded picture of `instances` seen by `camera` (rendered at
+    /// `style.supersample`² samples a pixel and averaged).
+    pub fn picture(
+        &mut self,
+        meshes: &RenderMeshes,
+        instances: &[Instance],
+        camera: &Camera,
+        style: &Style,
+    ) -> image::RgbaImage {
+        let s = style.supersample.clamp(1, 8);
+        let big = |side: u32| (side * s).min(Camera::MAX_SIDE);
+        let mut fine = *camera;
+        fine.width = big(camera.width);
+        fine.height = big(camera.height);
+        let palette = style.palette.for_names(meshes.names());
+        let gbuffer = self.render(meshes, instances, &fine);
+        shade::picture(gbuffer, style, &palette, (camera.width, camera.height))
+    }
+
+    fn draw(&mut self, view: &View, mesh: &RenderMesh, inst: &Instance) {
+        let camera = *view.camera();
+        let m = view.affine() * crate::voxelize::to_f64(&inst.transform);
+        let proj = view.projector();
+        let (near, far) = (camera.near, camera.far);
+        let in_range = |v: &DVec3| v.z >= near && v.z <= far;
+        let n = mesh.positions.len();
+        self.view.clear();
+        self.pixels.clear();
+        let mut finite = true;
+        for p in &mesh.positions {
+            let v = m.transform_point3(*p);
+            finite &= v.is_finite();
+            self.view.push(v);
+            self.pixels.push(proj.to_pixel(v));
+        }
+        if !finite || n == 0 {
+            return;
+        }
+        let (cx, cy, sx, sy, perspective) = proj.constants();
+        for t in &mesh.triangles {
+            let [a, b, c] = t.map(|i| self.view[i as usize]);
+            let face = Face::new([a, b, c], inst.shape, perspective);
+            let plane = Plane::new(&face, [a, b, c], (cx, cy, sx, sy), perspective, near, far);
+            let index = self.gbuffer.push_face(face);
+            let gbuffer = &mut self.gbuffer;
+            let mut f = |s: crate::PixelSpan| gbuffer.span(s, index, &plane);
+            if in_range(&a) && in_range(&b) && in_range(&c) {
+                let px = t.map(|i| self.pixels[i as usize]);
+                fill_triangle(&camera, px, &mut f);
+                continue;
+            }
+            self.clip.clear();
+            self.clip.extend([a, b, c]);
+            clip_depth(&mut self.clip, &mut self.clip2, near, far);
+            if self.clip.len() < 3 {
+                continue;
+            }
+            self.hull.clear();
+            self.hull
+                .extend(self.clip.iter().map(|v| proj.to_pixel(*v)));
+            fill_convex(&camera, &self.hull, &mut self.edges, &mut f);
+        }
+    }
+}
+
+/// A triangle's depth at pixel centres: `Z = num / (a + b·x + c·y)`
+/// (perspective, `num` the plane's offset) or `Z = a + b·x + c·y`
+/// (orthographic), clamped to the camera's depth range.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Plane {
+    num: f64,
+    a: f64,
+    b: f64,
+    c: f64,
+    perspective: bool,
+    /// The depth used where the plane gives none (a triangle seen edge on).
+    fallback: f64,
+    near: f64,
+    far: f64,
+}
+
+impl Plane {
+    fn new(
+        face: &Face,
+        v: [DVec3; 3],
+        (cx, cy, sx, sy): (f64, f64, f64, f64),
+        perspective: bool,
+        near: f64,
+        far: f64,
+    ) -> Self {
+        let n = face.raw_normal;
+        let d = n.dot(v[0]);
+        let fallback = v[0].z.min(v[1].z).min(v[2].z).clamp(near, far);
+        // The pixel centre (x, y) is the view point (X, Y) with
+        // X = (x − cx)/sx·w, Y = −(y − cy)/sy·w, where w = Z (perspective) or 1.
+        let (bx, by) = (n.x / sx, -n.y / sy);
+        let a0 = -bx * cx - by * cy;
+        if perspective {
+            // n·(X, Y, Z) = d with (X, Y) = Z·(dir): Z = d / (n·dir).
+            Self {
+                num: d,
+                a: a0 + n.z,
+                b: bx,
+                c: by,
+                perspective,
+                fallback,
+                near,
+                far,
+            }
+        } else {
+            // Z = (d − n.x·X − n.y·Y) / n.z.
+            let r = 1.0 / n.z;
+            Self {
+                num: 0.0,
+                a: (d - a0) * r,
+                b: -bx * r,
+                c: -by * r,
+                perspective,
+                fallback,
+                near,
+                far,
+            }
+        }
+    }
+
+    /// The row's constant part and the slope along x, for stepping.
+    #[inline(always)]
+    pub(crate) fn row(&self, y: f64) -> (f64, f64) {
+        (self.a + self.c * y, self.b)
+    }
+
+    /// The depth from a row's linear term `l = a + b·x + c·y`.
+    #[inline(always)]
+    pub(crate) fn from_linear(&self, l: f64) -> f64 {
+        let z = if self.perspective { self.num / l } else { l };
+        if z.is_finite() {
+            z.clamp(self.near, self.far)
+        } else {
+            self.fallback
+        }
+    }
+}

@@ -1,0 +1,280 @@
+//! The renderer's G-buffer against the silhouette rasterizer (coverage)
+//! and per-pixel ray casting (depth), and the fitted cameras.
+
+use std::borrow::Cow;
+
+use crate::common::{open_box, open_star, placement, star_prism, wavy_sheet};
+use glam::{Affine3A, DVec3, Vec3};
+use proptest::prelude::*;
+use shapegen_core::express::Instance;
+use shapegen_score::{
+    BoundingSphere, Camera, GBuffer, Mesh, RasterShape, Rasterizer, RenderMeshes, Renderer,
+    ShapeMeshes, fit_camera, fit_orthographic,
+};
+
+fn meshes() -> Vec<Mesh> {
+    vec![
+        Mesh::unit_cube(),
+        Mesh::trunk(),
+        Mesh::leaf(),
+        star_prism(),
+        open_box(),
+        open_star(),
+        wavy_sheet(),
+    ]
+}
+
+fn shape_meshes(meshes: &[Mesh]) -> ShapeMeshes {
+    let names = (0..meshes.len())
+        .map(|i| Cow::Owned(format!("shape{i}")))
+        .collect();
+    ShapeMeshes::new(names, meshes.to_vec()).unwrap()
+}
+
+fn camera() -> impl Strategy<Value = Camera> {
+    prop_oneof![
+        // Perspective orbits; a near plane of up to 3 clips models that come close.
+        (-3.2f64..3.2, -1.2f64..1.2, 2.0f64..8.0, 0.05f64..3.0).prop_map(
+            |(phi, theta, r, near)| {
+                Camera::orbit(
+                    phi,
+                    theta,
+                    r,
+                    DVec3::ZERO,
+                    60f64.to_radians(),
+                    near,
+                    near + 6.0,
+                    (64, 48),
+                )
+                .unwrap()
+            }
+        ),
+        (-1.0f64..1.0, -1.0f64..1.0).prop_map(|(x, y)| {
+            Camera::orthographic(
+                DVec3::new(x, y, -6.0),
+                DVec3::Z,
+                DVec3::Y,
+                6.0,
+                0.1,
+                12.0,
+                (64, 48),
+            )
+            .unwrap()
+        }),
+    ]
+}
+
+/// Möller–Trumbore: the ray parameter where `o + t d` hits `tri`.
+fn hit(tri: [DVec3; 3], o: DVec3, d: DVec3) -> Option<f64> {
+    let (e1, e2) = (tri[1] - tri[0], tri[2] - tri[0]);
+    let p = d.cross(e2);
+    let det = e1.dot(p);
+    if det.abs() < 1e-300 {
+        return None;
+    }
+    let inv = 1.0 / det;
+    let s = o - tri[0];
+    let u = s.dot(p) * inv;
+    let q = s.cross(e1);
+    let v = d.dot(q) * inv;
+    if u < 0.0 || v < 0.0 || u + v > 1.0 {
+        return None;
+    }
+    Some(e2.dot(q) * inv)
+}
+
+/// Every world triangle of `instances`.
+fn world_triangles(meshes: &[Mesh], instances: &[Instance]) -> Vec<[DVec3; 3]> {
+    instances
+        .iter()
+        .flat_map(|inst| {
+            let m = &meshes[inst.shape as usize];
+            // In f64, as the renderer places them.
+            let a = inst.transform;
+            let place = move |p: Vec3| {
+                let p = p.as_dvec3();
+                a.matrix3.x_axis.as_dvec3() * p.x
+                    + a.matrix3.y_axis.as_dvec3() * p.y
+                    + a.matrix3.z_axis.as_dvec3() * p.z
+                    + a.translation.as_dvec3()
+            };
+            m.triangles
+                .iter()
+                .map(move |t| t.map(|i| place(m.positions[i as usize])))
+        })
+        .collect()
+}
+
+fn covered_by_rasterizer(cam: &Camera, meshes: &[Mesh], instances: &[Instance]) -> Vec<bool> {
+    let shapes: Vec<RasterShape> = meshes
+        .iter()
+        .map(|m| RasterShape::new("s", m).unwrap())
+        .collect();
+    let mut out = vec![false; (cam.width * cam.height) as usize];
+    let mut rasterizer = Rasterizer::new();
+    for inst in instances {
+        rasterizer.spans(cam, &shapes[inst.shape as usize], &inst.transform, |s| {
+            for c in s.c0..s.c1 {
+                out[(s.row * cam.width + c) as usize] = true;
+            }
+        });
+    }
+    out
+}
+
+/// Pixels whose depth differs from ray casting (ignoring pixels where two
+/// surfaces are within `1e-7` of each other or the ray grazes an edge).
+fn depth_mismatches(cam: &Camera, g: &GBuffer, tris: &[[DVec3; 3]]) -> Vec<(usize, f64, f64)> {
+    let mut bad = Vec::new();
+    for r in 0..cam.height {
+        for c in 0..cam.width {
+            let i = (r * cam.width + c) as usize;
+            let Some(depth) = g.depth(i) else { continue };
+            let (o, d) = cam.pixel_ray(c, r);
+            let mut hits: Vec<f64> = tris
+                .iter()
+                .filter_map(|t| hit(*t, o, d))
+                .map(|t| cam.forward.dot(o + t * d - cam.eye))
+                .filter(|z| *z >= cam.near && *z <= cam.far)
+                .collect();
+            hits.sort_by(f64::total_cmp);
+            let Some(&nearest) = hits.first() else {
+                continue; // an edge tie the two rules break differently
+            };
+            if hits.get(1).is_some_and(|z| z - nearest < 1e-7 * z.abs().max(1.0)) {
+                continue;
+            }
+            if (depth - nearest).abs() > 1e-9 * nearest.abs().max(1.0) {
+                bad.push((i, depth, nearest));
+            }
+        }
+    }
+    bad
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 128, ..ProptestConfig::default() })]
+
+    /// The covered pixels are exactly the silhouette rasterizer's, and the
+    /// depth at each pixel centre is the nearest surface's by ray casting.
+    #[test]
+    fn gbuffer_coverage_and_depth_are_exact(cam in camera(), placements in proptest::collection::vec((placement(0.2..2.0, Vec3::splat(-2.0), Vec3::splat(2.0)), 0u16..7), 1..5)) {
+        let meshes = meshes();
+        let prepared = RenderMeshes::new(&shape_meshes(&meshes)).unwrap();
+        let instances: Vec<Instance> = placements.iter().map(|&(transform, shape)| Instance { shape, transform }).collect();
+        let mut renderer = Renderer::new();
+        let g = renderer.render(&prepared, &instances, &cam);
+        let expected = covered_by_rasterizer(&cam, &meshes, &instances);
+        let differ = (0..expected.len()).filter(|&i| g.covered(i) != expected[i]).count();
+        prop_assert_eq!(differ, 0, "{} pixels differ from the rasterizer's coverage", differ);
+        let bad = depth_mismatches(&cam, g, &world_triangles(&meshes, &instances));
+        prop_assert!(bad.is_empty(), "{} depths differ, e.g. {:?}", bad.len(), &bad[..bad.len().min(3)]);
+        // Visible pixels per face add up to the covered pixels.
+        let visible: u64 = g.terminal_pixels().iter().sum();
+        prop_assert_eq!(visible as usize, g.covered_pixels());
+        for f in g.faces() {
+            prop_assert!(f.visible <= f.drawn);
+            prop_assert!((f.normal.length() - 1.0).abs() < 1e-5);
+        }
+    }
+}
+
+/// A unit cube seen face on (orthographic): one face of area 1 visible, the
+/// four side faces edge on (no pixels), the back face hidden.
+#[test]
+fn a_cube_face_on_shows_one_unit_of_area() {
+    let meshes = [Mesh::unit_cube()];
+    let prepared = RenderMeshes::new(&shape_meshes(&meshes)).unwrap();
+    let cam = Camera::orthographic(
+        DVec3::new(0.0, 0.0, -5.0),
+        DVec3::Z,
+        DVec3::Y,
+        2.0,
+        0.1,
+        10.0,
+        (40, 40),
+    )
+    .unwrap();
+    let instances = [Instance {
+        shape: 0,
+        transform: Affine3A::IDENTITY,
+    }];
+    let mut renderer = Renderer::new();
+    let g = renderer.render(&prepared, &instances, &cam);
+    // 1 of 2 units across 40 pixels: 20 × 20 pixels.
+    assert_eq!(g.covered_pixels(), 400);
+    let area = g.visible_area();
+    assert!((area[0] - 1.0).abs() < 1e-12, "{area:?}");
+    // The depth is the front face's: eye at z = −5, face at z = −0.5.
+    let i = (20 * 40 + 20) as usize;
+    assert!((g.depth(i).unwrap() - 4.5).abs() < 1e-12);
+    // Its normal faces the camera.
+    assert!((g.normal(i).unwrap() - Vec3::NEG_Z).length() < 1e-6);
+}
+
+/// The bounding sphere holds every point and is near-minimal on points
+/// spread over a known sphere; the fitted cameras show it whole and large.
+#[test]
+fn fitted_cameras_frame_the_bounding_sphere() {
+    let mut rng = shapegen_core::rng::stream(5, &[]);
+    use rand::RngExt;
+    for case in 0..20 {
+        let c = DVec3::new(
+            rng.random_range(-5.0..5.0),
+            rng.random_range(-5.0..5.0),
+            rng.random_range(-5.0..5.0),
+        );
+        let r = rng.random_range(0.1..10.0);
+        let mut points: Vec<DVec3> = (0..400)
+            .map(|_| {
+                let v = DVec3::new(
+                    rng.random_range(-1.0..1.0),
+                    rng.random_range(-1.0..1.0),
+                    rng.random_range(-1.0..1.0),
+                );
+                c + r * v.normalize_or(DVec3::X)
+            })
+            .collect();
+        // Interior points do not change the minimal sphere.
+        points.extend((0..100).map(|k| c + r * 0.5 * DVec3::splat(f64::from(k) / 100.0 - 0.5)));
+        let s = BoundingSphere::of(&points).unwrap();
+        for p in &points {
+            assert!(p.distance(s.center) <= s.radius * (1.0 + 1e-12), "case {case}");
+        }
+        assert!(s.radius <= 1.05 * r, "case {case}: {} vs {r}", s.radius);
+    }
+    // A cube: its sphere's projection fills the image across; the cube's
+    // picture is well inside and large.
+    let meshes = [Mesh::unit_cube()];
+    let prepared = RenderMeshes::new(&shape_meshes(&meshes)).unwrap();
+    let instances = [Instance {
+        shape: 0,
+        transform: Affine3A::from_translation(Vec3::new(3.0, 1.0, -2.0)),
+    }];
+    let sphere = prepared.bounding_sphere(&instances).unwrap();
+    assert!((sphere.radius - 3f64.sqrt() / 2.0).abs() < 0.01 * sphere.radius);
+    for cam in [
+        fit_camera(
+            &sphere,
+            BoundingSphere::direction(0.7, 0.4),
+            40f64.to_radians(),
+            (120, 80),
+        )
+        .unwrap(),
+        fit_orthographic(&sphere, BoundingSphere::direction(-2.0, 0.2), (80, 120)).unwrap(),
+    ] {
+        let mut renderer = Renderer::new();
+        let g = renderer.render(&prepared, &instances, &cam);
+        let (w, h) = (cam.width as usize, cam.height as usize);
+        let (mut lo, mut hi) = ((usize::MAX, usize::MAX), (0, 0));
+        for i in (0..g.len()).filter(|&i| g.covered(i)) {
+            let (x, y) = (i % w, i / w);
+            lo = (lo.0.min(x), lo.1.min(y));
+            hi = (hi.0.max(x), hi.1.max(y));
+        }
+        // Inside the image with a margin, and at least half the narrow side.
+        assert!(lo.0 > 0 && lo.1 > 0 && hi.0 < w - 1 && hi.1 < h - 1, "{lo:?} {hi:?}");
+        let narrow = w.min(h);
+        assert!(hi.0 - lo.0 >= narrow / 2 || hi.1 - lo.1 >= narrow / 2, "{lo:?} {hi:?}");
+    }
+}
