@@ -136,8 +136,9 @@ pub mod prelude {
     };
     pub use crate::ops::{
         CrossoverConfig, Cut, EdgeMatch, Grower, Grown, InitLength, Mutation, MutationSplit,
-        OpError, alter, alter_at, crossover, crossover_at, crossover_into, cut, cut_at, grow,
-        default_model, grow_at, mutate, random_individual, random_individual_with, uncontrolled,
+        OpError, alter, alter_at, crossover, crossover_at, crossover_into, cut, cut_at,
+        default_model, grow, grow_at, mutate, random_individual, random_individual_with,
+        uncontrolled,
     };
     pub use crate::optimize::{
         Budget, Fitness, FnFitness, Ga, GaParams, GenerationStats, Individual, NoObserver,

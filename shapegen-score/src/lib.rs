@@ -23,7 +23,8 @@
 //!   [`GBuffer`] (depth, face, normal, terminal type per pixel; the same
 //!   covered pixels as the [`Rasterizer`]), shaded with three-point
 //!   [`Lights`] in a [`Style`]; cameras fitted to a model's
-//!   [`BoundingSphere`].
+//!   [`BoundingSphere`]; the thesis's eight [`ViewAttributes`] of a render
+//!   and the [`best_view`] of a model.
 //! - [`ModelFitness`]: a generator's models scored against either scene, the
 //!   `Fitness` the optimizers run ([`VolumeFitness`], [`ImageFitness`]).
 //!
@@ -45,6 +46,7 @@ mod raster;
 mod render;
 mod shapes;
 mod solid;
+mod views;
 mod volume;
 mod voxelize;
 
@@ -61,11 +63,15 @@ pub use obj::{write_model, write_obj};
 pub use quality::Quality;
 pub use raster::{PixelSpan, RasterShape, Rasterizer};
 pub use render::{
-    Background, BoundingSphere, Face, GBuffer, Light, Lights, Palette, RenderMeshes, Renderer, Shading,
-    Style, fit_camera, fit_orthographic,
+    Background, BoundingSphere, Face, GBuffer, Light, Lights, Palette, RenderMeshes, Renderer,
+    Shading, Style, fit_camera, fit_orthographic,
 };
 pub use shapes::ShapeMeshes;
 pub use solid::{Convex, Inside, MeshSolid, RowLine, RowTri, Solid, Winding, solid_angle};
+pub use views::{
+    ATTRIBUTE_NAMES, AttributeWeights, BestView, ViewAttributes, ViewSampling, Viewpoint,
+    best_view, normalize_columns,
+};
 pub use volume::{
     OutsideCount, OverlapCount, VolumeCounts, VolumeScene, VolumeScore, VolumeScratch,
     VolumeTarget, aabb_cells_outside,

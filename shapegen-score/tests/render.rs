@@ -141,7 +141,10 @@ fn depth_mismatches(cam: &Camera, g: &GBuffer, tris: &[[DVec3; 3]]) -> Vec<(usiz
             let Some(&nearest) = hits.first() else {
                 continue; // an edge tie the two rules break differently
             };
-            if hits.get(1).is_some_and(|z| z - nearest < 1e-7 * z.abs().max(1.0)) {
+            if hits
+                .get(1)
+                .is_some_and(|z| z - nearest < 1e-7 * z.abs().max(1.0))
+            {
                 continue;
             }
             if (depth - nearest).abs() > 1e-9 * nearest.abs().max(1.0) {
@@ -239,7 +242,10 @@ fn fitted_cameras_frame_the_bounding_sphere() {
         points.extend((0..100).map(|k| c + r * 0.5 * DVec3::splat(f64::from(k) / 100.0 - 0.5)));
         let s = BoundingSphere::of(&points).unwrap();
         for p in &points {
-            assert!(p.distance(s.center) <= s.radius * (1.0 + 1e-12), "case {case}");
+            assert!(
+                p.distance(s.center) <= s.radius * (1.0 + 1e-12),
+                "case {case}"
+            );
         }
         assert!(s.radius <= 1.05 * r, "case {case}: {} vs {r}", s.radius);
     }
@@ -273,8 +279,14 @@ fn fitted_cameras_frame_the_bounding_sphere() {
             hi = (hi.0.max(x), hi.1.max(y));
         }
         // Inside the image with a margin, and at least half the narrow side.
-        assert!(lo.0 > 0 && lo.1 > 0 && hi.0 < w - 1 && hi.1 < h - 1, "{lo:?} {hi:?}");
+        assert!(
+            lo.0 > 0 && lo.1 > 0 && hi.0 < w - 1 && hi.1 < h - 1,
+            "{lo:?} {hi:?}"
+        );
         let narrow = w.min(h);
-        assert!(hi.0 - lo.0 >= narrow / 2 || hi.1 - lo.1 >= narrow / 2, "{lo:?} {hi:?}");
+        assert!(
+            hi.0 - lo.0 >= narrow / 2 || hi.1 - lo.1 >= narrow / 2,
+            "{lo:?} {hi:?}"
+        );
     }
 }

@@ -9,10 +9,12 @@ mod image;
 mod mesh;
 /// The silhouette rasterizer against per-pixel ray casting.
 mod raster;
-/// The renderer's G-buffer against the rasterizer and ray casting.
-mod render;
 /// Every mesh of `../shared/data` voxelized at 128³ (skipped without the data).
 mod real_data;
+/// The renderer's G-buffer against the rasterizer and ray casting.
+mod render;
+/// View attributes by hand and best views with a known answer.
+mod views;
 /// Volume counts and scores against per-voxel references.
 mod volume;
 /// The span voxelizer against per-voxel references.

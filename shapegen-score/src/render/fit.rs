@@ -28,7 +28,10 @@ impl BoundingSphere {
             points
                 .iter()
                 .copied()
-                .max_by(|a, b| a.distance_squared(from).total_cmp(&b.distance_squared(from)))
+                .max_by(|a, b| {
+                    a.distance_squared(from)
+                        .total_cmp(&b.distance_squared(from))
+                })
                 .unwrap_or(from)
         };
         let a = farthest(first);

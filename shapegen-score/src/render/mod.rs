@@ -28,8 +28,8 @@ use shapegen_core::express::Instance;
 
 pub use fit::{BoundingSphere, fit_camera, fit_orthographic};
 pub use gbuffer::{Face, GBuffer};
-pub use shade::{Background, Light, Lights, Palette, Shading, Style};
 pub(crate) use shade::luma;
+pub use shade::{Background, Light, Lights, Palette, Shading, Style};
 
 use crate::camera::Camera;
 use crate::error::ScoreError;
