@@ -110,6 +110,7 @@ pub use shapegen_score as score;
 pub mod cli;
 pub mod demo;
 pub mod experiment;
+pub mod gallery;
 pub mod output;
 pub mod registry;
 pub mod scenes;

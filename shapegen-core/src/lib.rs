@@ -107,7 +107,8 @@ pub mod __private {
     impl<S: ModelSink, St> NodeOut<St> for Direct<'_, S, St> {
         #[inline(always)]
         fn emit_shape(&mut self, id: ShapeId, _: &str, transform: Affine3A) {
-            self.sink.emit(id, &transform);
+            self.sink
+                .emit_from(node_of(self.words[self.pos]), id, &transform);
         }
 
         #[inline(always)]

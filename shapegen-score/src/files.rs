@@ -42,3 +42,19 @@ pub fn write_png(path: &Path, img: &image::RgbImage) -> Result<(), ScoreError> {
         })?;
     write_atomically(path, &bytes)
 }
+
+/// Encodes `img` (with its alpha channel) as PNG and writes it to `path` atomically.
+pub fn write_png_rgba(path: &Path, img: &image::RgbaImage) -> Result<(), ScoreError> {
+    write_atomically(path, &png_bytes(path, img)?)
+}
+
+/// `img` encoded as PNG (`path` names it in errors).
+pub fn png_bytes(path: &Path, img: &image::RgbaImage) -> Result<Vec<u8>, ScoreError> {
+    let mut bytes = Vec::new();
+    img.write_to(&mut io::Cursor::new(&mut bytes), image::ImageFormat::Png)
+        .map_err(|e| ScoreError::Image {
+            path: path.to_path_buf(),
+            reason: e.to_string(),
+        })?;
+    Ok(bytes)
+}

@@ -52,7 +52,7 @@ mod voxelize;
 
 pub use camera::{Camera, Projection, Projector};
 pub use error::ScoreError;
-pub use files::{write_atomically, write_png};
+pub use files::{png_bytes, write_atomically, write_png, write_png_rgba};
 pub use fitness::{ImageFitness, ModelFitness, Scene, VolumeFitness, smootherstep};
 pub use grid::Grid;
 pub use image::{
@@ -64,7 +64,7 @@ pub use quality::Quality;
 pub use raster::{PixelSpan, RasterShape, Rasterizer};
 pub use render::{
     Background, BoundingSphere, Face, GBuffer, Light, Lights, Palette, RenderMeshes, Renderer,
-    Shading, Style, fit_camera, fit_orthographic,
+    Shading, Style, fit_camera, fit_orthographic, frame_tightly,
 };
 pub use shapes::ShapeMeshes;
 pub use solid::{Convex, Inside, MeshSolid, RowLine, RowTri, Solid, Winding, solid_angle};

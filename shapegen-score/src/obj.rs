@@ -64,14 +64,8 @@ mod tests {
     fn objects_vertices_and_faces_are_numbered_across_instances() {
         let shapes = ShapeMeshes::new(vec!["cube".into()], vec![Mesh::unit_cube()]).unwrap();
         let model = [
-            Instance {
-                shape: 0,
-                transform: Affine3A::IDENTITY,
-            },
-            Instance {
-                shape: 0,
-                transform: Affine3A::from_translation([2.0, 0.0, 0.0].into()),
-            },
+            Instance::new(0, Affine3A::IDENTITY),
+            Instance::new(0, Affine3A::from_translation([2.0, 0.0, 0.0].into())),
         ];
         let mut out = Vec::new();
         write_obj(&mut out, &model, &shapes).unwrap();

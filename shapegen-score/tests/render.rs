@@ -164,7 +164,7 @@ proptest! {
     fn gbuffer_coverage_and_depth_are_exact(cam in camera(), placements in proptest::collection::vec((placement(0.2..2.0, Vec3::splat(-2.0), Vec3::splat(2.0)), 0u16..7), 1..5)) {
         let meshes = meshes();
         let prepared = RenderMeshes::new(&shape_meshes(&meshes)).unwrap();
-        let instances: Vec<Instance> = placements.iter().map(|&(transform, shape)| Instance { shape, transform }).collect();
+        let instances: Vec<Instance> = placements.iter().map(|&(transform, shape)| Instance::new(shape, transform)).collect();
         let mut renderer = Renderer::new();
         let g = renderer.render(&prepared, &instances, &cam);
         let expected = covered_by_rasterizer(&cam, &meshes, &instances);
@@ -198,10 +198,7 @@ fn a_cube_face_on_shows_one_unit_of_area() {
         (40, 40),
     )
     .unwrap();
-    let instances = [Instance {
-        shape: 0,
-        transform: Affine3A::IDENTITY,
-    }];
+    let instances = [Instance::new(0, Affine3A::IDENTITY)];
     let mut renderer = Renderer::new();
     let g = renderer.render(&prepared, &instances, &cam);
     // 1 of 2 units across 40 pixels: 20 × 20 pixels.
@@ -255,6 +252,7 @@ fn fitted_cameras_frame_the_bounding_sphere() {
     let prepared = RenderMeshes::new(&shape_meshes(&meshes)).unwrap();
     let instances = [Instance {
         shape: 0,
+        node: 0,
         transform: Affine3A::from_translation(Vec3::new(3.0, 1.0, -2.0)),
     }];
     let sphere = prepared.bounding_sphere(&instances).unwrap();

@@ -37,6 +37,7 @@ fn attributes_of_two_squares_match_hand_computed_values() {
     .unwrap();
     let at = |x: f32, shape: u16| Instance {
         shape,
+        node: 0,
         transform: Affine3A::from_translation(Vec3::new(x, 0.0, 0.0)),
     };
     let mut renderer = Renderer::new();
@@ -93,15 +94,9 @@ fn normals_turned_left_count_as_left() {
     let mut renderer = Renderer::new();
     // A cube turned about +y shows two faces, of unequal sizes, one facing
     // left and one right; turned the other way, the mirror image.
-    let turned = Instance {
-        shape: 0,
-        transform: Affine3A::from_rotation_y(0.5),
-    };
+    let turned = Instance::new(0, Affine3A::from_rotation_y(0.5));
     let a = ViewAttributes::of(renderer.render(&m, &[turned], &cam), &m, &Style::fast());
-    let mirrored = Instance {
-        shape: 0,
-        transform: Affine3A::from_rotation_y(-0.5),
-    };
+    let mirrored = Instance::new(0, Affine3A::from_rotation_y(-0.5));
     let b = ViewAttributes::of(renderer.render(&m, &[mirrored], &cam), &m, &Style::fast());
     // Mirror images: the balances add up to 1, and neither is ½.
     assert!(
@@ -118,6 +113,7 @@ fn the_view_hiding_one_tower_behind_the_other_scores_lowest() {
     let m = meshes(2);
     let tower = |x: f32, shape| Instance {
         shape,
+        node: 0,
         transform: Affine3A::from_scale_rotation_translation(
             Vec3::new(1.0, 5.0, 1.0),
             glam::Quat::IDENTITY,
@@ -127,6 +123,7 @@ fn the_view_hiding_one_tower_behind_the_other_scores_lowest() {
     // Each tower is of two terminal types: body and a cap on top.
     let cap = |x: f32| Instance {
         shape: 1,
+        node: 0,
         transform: Affine3A::from_scale_rotation_translation(
             Vec3::new(0.6, 0.6, 0.6),
             glam::Quat::IDENTITY,
@@ -174,10 +171,7 @@ fn the_view_hiding_one_tower_behind_the_other_scores_lowest() {
 #[test]
 fn bad_samplings_and_weights_are_errors() {
     let m = meshes(1);
-    let one = [Instance {
-        shape: 0,
-        transform: Affine3A::IDENTITY,
-    }];
+    let one = [Instance::new(0, Affine3A::IDENTITY)];
     let mut r = Renderer::new();
     let style = Style::fast();
     let w = AttributeWeights::BEST_VIEW;

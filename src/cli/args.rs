@@ -26,6 +26,40 @@ pub enum Command {
     Compare(CompareArgs),
     /// Re-expresses a saved chromosome (best.json) and writes its model and pictures.
     Render(RenderArgs),
+    /// A thumbnail gallery of what the experiment's generator can make: gallery.png, index.html, gallery.json.
+    Gallery(GalleryArgs),
+}
+
+/// `shapegen gallery`.
+#[derive(Debug, clap::Args)]
+pub struct GalleryArgs {
+    /// The experiment whose generator and shapes are shown (its targets are not used).
+    #[command(flatten)]
+    pub experiment: ExperimentArgs,
+    /// Models drawn by uncontrolled generation.
+    #[arg(long, default_value_t = 200)]
+    pub samples: usize,
+    /// Clusters (the default model's and one per representative around it).
+    #[arg(long, default_value_t = 14)]
+    pub clusters: usize,
+    /// Random seed of the samples and the clustering; default: the experiment's.
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// The model in the middle: a chromosome file (e.g. best.json); default: the generator's default model.
+    #[arg(long)]
+    pub default_model: Option<PathBuf>,
+    /// Side of a representative's thumbnail in pixels (the default model's is 3× larger).
+    #[arg(long, default_value_t = 160)]
+    pub thumbnail: u32,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Output directory.
+    #[arg(long, default_value = "gallery")]
+    pub out: PathBuf,
+    /// No progress bar.
+    #[arg(long, short)]
+    pub quiet: bool,
 }
 
 /// Where the experiment comes from.

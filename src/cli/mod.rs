@@ -1,4 +1,4 @@
-//! The `shapegen` command line as a library: `run`, `compare` and `render`
+//! The `shapegen` command line as a library: `run`, `compare`, `render` and `gallery`
 //! for the built-in generators and a program's own (feature `cli`, on by
 //! default).
 //!
@@ -19,6 +19,7 @@
 
 pub mod args;
 mod compare;
+mod gallery;
 mod guard;
 mod plot;
 mod progress;
@@ -170,6 +171,7 @@ impl Cli {
             Command::Run(a) => run::run(self, &a),
             Command::Compare(a) => compare::compare(self, &a),
             Command::Render(a) => render::render(self, &a),
+            Command::Gallery(a) => gallery::gallery(self, &a),
         }
     }
 

@@ -482,6 +482,18 @@ impl Experiment {
     }
 }
 
+impl crate::gallery::Models for Experiment {
+    fn graph(&self) -> &Graph {
+        self.problem.graph()
+    }
+    fn meshes(&self) -> &crate::score::ShapeMeshes {
+        self.problem.meshes()
+    }
+    fn instances(&self, chromosome: &Chromosome) -> Vec<crate::express::Instance> {
+        self.problem.instances(chromosome)
+    }
+}
+
 /// Whether `path` is a regular file that can be read: a directory, a FIFO
 /// or a device is refused with words that say so (reading one would fail
 /// or block forever).

@@ -64,6 +64,10 @@ pub(crate) trait Problem: Send + Sync {
     fn model_files(&self) -> Vec<String>;
     /// What the scores depend on, part by part.
     fn fingerprint(&self) -> Vec<(&'static str, u64)>;
+    /// The meshes the shapes are scored with.
+    fn meshes(&self) -> &ShapeMeshes;
+    /// The instances the model of `chromosome` emits.
+    fn instances(&self, chromosome: &Chromosome) -> Vec<Instance>;
 }
 
 /// [`Problem`] for a generator `G` on a scene `S`.
@@ -257,10 +261,7 @@ where
         let mut written = vec![obj];
         if let Some(targets) = &self.target_meshes {
             let instances: Vec<Instance> = (0..targets.len())
-                .map(|i| Instance {
-                    shape: i as ShapeId,
-                    transform: Affine3A::IDENTITY,
-                })
+                .map(|i| Instance::new(i as ShapeId, Affine3A::IDENTITY))
                 .collect();
             let path = dir.join("target.obj");
             let mut text = Vec::new();
@@ -286,6 +287,14 @@ where
         }
         files.extend(self.fitness.scene().picture_files());
         files
+    }
+
+    fn meshes(&self) -> &ShapeMeshes {
+        self.fitness.meshes()
+    }
+
+    fn instances(&self, chromosome: &Chromosome) -> Vec<Instance> {
+        crate::gallery::Models::instances(&self.fitness, chromosome)
     }
 
     fn fingerprint(&self) -> Vec<(&'static str, u64)> {

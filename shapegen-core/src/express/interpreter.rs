@@ -268,7 +268,8 @@ impl<St> RuleOutput<'_, St> {
             .iter()
             .position(|s| s == shape)
             .unwrap_or_else(|| panic!("unknown shape `{shape}`"));
-        self.sink.emit(id as ShapeId, &transform);
+        self.sink
+            .emit_from(self.gene.node(), id as ShapeId, &transform);
     }
 
     /// Passes `state` to the child in slot `slot` (by name), if it is expressed.

@@ -2,6 +2,8 @@
 
 use glam::Affine3A;
 
+use crate::graph::NodeId;
+
 /// Index of a shape (mesh) in a generator's [`shapes`](super::Generator::shapes) list.
 pub type ShapeId = u16;
 
@@ -12,6 +14,15 @@ pub type ShapeId = u16;
 pub trait ModelSink {
     /// One instance of shape `shape`, placed by `transform` (unit mesh to world).
     fn emit(&mut self, shape: ShapeId, transform: &Affine3A);
+
+    /// One instance emitted by a gene of node `node`. Generators call this;
+    /// by default it is [`emit`](Self::emit), so only sinks that want to
+    /// know the emitting node (e.g. to colour a picture by it) implement it.
+    #[inline(always)]
+    fn emit_from(&mut self, node: NodeId, shape: ShapeId, transform: &Affine3A) {
+        let _ = node;
+        self.emit(shape, transform);
+    }
 }
 
 /// One emitted instance.
@@ -19,8 +30,22 @@ pub trait ModelSink {
 pub struct Instance {
     /// Which shape.
     pub shape: ShapeId,
+    /// The node whose gene emitted it (0 when not emitted by a generator).
+    pub node: NodeId,
     /// Unit mesh to world.
     pub transform: Affine3A,
+}
+
+impl Instance {
+    /// Shape `shape` placed by `transform`, emitted by no particular node.
+    #[must_use]
+    pub const fn new(shape: ShapeId, transform: Affine3A) -> Self {
+        Self {
+            shape,
+            node: 0,
+            transform,
+        }
+    }
 }
 
 /// A sink that keeps every instance, in emission order.
@@ -30,8 +55,14 @@ pub struct Instances(pub Vec<Instance>);
 impl ModelSink for Instances {
     #[inline]
     fn emit(&mut self, shape: ShapeId, transform: &Affine3A) {
+        self.0.push(Instance::new(shape, *transform));
+    }
+
+    #[inline]
+    fn emit_from(&mut self, node: NodeId, shape: ShapeId, transform: &Affine3A) {
         self.0.push(Instance {
             shape,
+            node,
             transform: *transform,
         });
     }
@@ -55,5 +86,10 @@ impl<S: ModelSink + ?Sized> ModelSink for &mut S {
     #[inline]
     fn emit(&mut self, shape: ShapeId, transform: &Affine3A) {
         (**self).emit(shape, transform);
+    }
+
+    #[inline]
+    fn emit_from(&mut self, node: NodeId, shape: ShapeId, transform: &Affine3A) {
+        (**self).emit_from(node, shape, transform);
     }
 }

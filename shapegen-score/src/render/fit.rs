@@ -4,7 +4,8 @@
 
 use glam::DVec3;
 
-use crate::camera::Camera;
+use super::GBuffer;
+use crate::camera::{Camera, Projection};
 use crate::error::ScoreError;
 
 /// A sphere holding every vertex of a model.
@@ -141,4 +142,71 @@ pub fn fit_orthographic(
         d + 1.5 * sphere.radius,
         size,
     )
+}
+
+/// `camera` turned and zoomed so that what `gbuffer` (rendered by
+/// `camera`) covers fills the image, with `margin` (a fraction of the
+/// extent, e.g. 0.08) on the wider side: for thumbnails that show a thin
+/// or small model large. A perspective camera keeps its eye and narrows
+/// its field of view (never widens it); an orthographic one moves
+/// sideways and shows less. The camera itself if nothing is covered.
+#[must_use]
+pub fn frame_tightly(camera: &Camera, gbuffer: &GBuffer, margin: f64) -> Camera {
+    let (w, h) = (gbuffer.width() as usize, gbuffer.height() as usize);
+    let (mut x0, mut y0, mut x1, mut y1) = (usize::MAX, usize::MAX, 0, 0);
+    for i in (0..gbuffer.len()).filter(|&i| gbuffer.covered(i)) {
+        let (x, y) = (i % w, i / w);
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
+    }
+    if x0 > x1 || w == 0 || h == 0 {
+        return *camera;
+    }
+    let (wf, hf) = (w as f64, h as f64);
+    // The box's centre in normalized device coordinates, and its extent.
+    let cx = (x0 + x1 + 1) as f64 / 2.0;
+    let cy = (y0 + y1 + 1) as f64 / 2.0;
+    let (nx, ny) = (2.0 * cx / wf - 1.0, 1.0 - 2.0 * cy / hf);
+    let extent = ((x1 - x0 + 1) as f64 / wf)
+        .max((y1 - y0 + 1) as f64 / hf)
+        .min(1.0)
+        * (1.0 + margin);
+    let mut out = *camera;
+    match camera.projection {
+        Projection::Perspective { fov_y } => {
+            let t = (0.5 * fov_y).tan();
+            let aspect = wf / hf;
+            let d = camera.forward + nx * t * aspect * camera.right + ny * t * camera.up;
+            let f = d.normalize();
+            // Keep the camera's handedness (look_at: up = right × forward).
+            let look_at_like = camera.right.dot(camera.forward.cross(camera.up)) > 0.0;
+            let mut r = f.cross(camera.up).normalize();
+            if r.dot(camera.right) < 0.0 {
+                r = -r;
+            }
+            let u = if look_at_like { r.cross(f) } else { f.cross(r) };
+            let fov = 2.0 * (t * extent.min(1.0)).atan();
+            out.forward = f;
+            out.right = r;
+            out.up = u;
+            out.projection = Projection::Perspective {
+                fov_y: fov.min(fov_y),
+            };
+        }
+        Projection::Orthographic { height } => {
+            let half_h = 0.5 * height;
+            let half_w = half_h * wf / hf;
+            out.eye += nx * half_w * camera.right + ny * half_h * camera.up;
+            out.projection = Projection::Orthographic {
+                height: height * extent.min(1.0),
+            };
+        }
+    }
+    if out.right.is_finite() && out.up.is_finite() && out.forward.is_finite() {
+        out
+    } else {
+        *camera
+    }
 }

@@ -108,7 +108,7 @@ impl GBuffer {
         );
         let mut x = f64::from(s.c0) + 0.5;
         for (d, f) in depth.iter_mut().zip(face.iter_mut()) {
-            let z = plane.from_linear(l0 + b * x);
+            let z = plane.depth_of_linear(l0 + b * x);
             if z < *d {
                 *d = z;
                 *f = index;

@@ -26,7 +26,7 @@ mod shade;
 use glam::{DVec2, DVec3};
 use shapegen_core::express::Instance;
 
-pub use fit::{BoundingSphere, fit_camera, fit_orthographic};
+pub use fit::{BoundingSphere, fit_camera, fit_orthographic, frame_tightly};
 pub use gbuffer::{Face, GBuffer};
 pub(crate) use shade::luma;
 pub use shade::{Background, Light, Lights, Palette, Shading, Style};
@@ -48,7 +48,10 @@ struct RenderMesh {
 #[derive(Clone, Debug)]
 pub struct RenderMeshes {
     meshes: Vec<RenderMesh>,
+    /// The terminal types' names.
     names: Vec<String>,
+    /// Whether an instance's terminal type is its emitting node (else its shape).
+    by_node: bool,
 }
 
 impl RenderMeshes {
@@ -67,13 +70,45 @@ impl RenderMeshes {
             });
             names.push(name.to_string());
         }
-        Ok(Self { meshes, names })
+        Ok(Self {
+            meshes,
+            names,
+            by_node: false,
+        })
     }
 
-    /// Number of shapes (terminal types).
+    /// Takes an instance's terminal type to be the node that emitted it
+    /// ([`Instance::node`]) instead of its shape: `node_names` are the
+    /// generator's nodes, by id (for the palette). A generator with one
+    /// shape (a spaceship of boxes) shows its parts this way. Give nodes
+    /// that emit nothing an empty name: they then take no palette colour.
+    #[must_use]
+    pub fn with_node_terminals(mut self, node_names: Vec<String>) -> Self {
+        if !node_names.is_empty() {
+            self.names = node_names;
+            self.by_node = true;
+        }
+        self
+    }
+
+    /// The terminal type of `inst`.
+    #[inline]
+    fn terminal(&self, inst: &Instance) -> u16 {
+        let t = if self.by_node { inst.node } else { inst.shape };
+        t.min(self.names.len().saturating_sub(1) as u16)
+    }
+
+    /// Number of shapes.
     #[must_use]
     pub fn len(&self) -> usize {
         self.meshes.len()
+    }
+
+    /// Number of terminal types (shapes, or nodes after
+    /// [`with_node_terminals`](Self::with_node_terminals)).
+    #[must_use]
+    pub fn terminal_types(&self) -> usize {
+        self.names.len()
     }
 
     /// Whether there are no shapes.
@@ -82,7 +117,7 @@ impl RenderMeshes {
         self.meshes.is_empty()
     }
 
-    /// The shapes' names, by shape id.
+    /// The terminal types' names, by id (the shapes', or the nodes').
     #[must_use]
     pub fn names(&self) -> &[String] {
         &self.names
@@ -137,11 +172,11 @@ impl Renderer {
         instances: &[Instance],
         camera: &Camera,
     ) -> &GBuffer {
-        self.gbuffer.reset(camera, meshes.len());
+        self.gbuffer.reset(camera, meshes.terminal_types());
         let view = View::new(camera);
         for inst in instances {
             if let Some(mesh) = meshes.meshes.get(inst.shape as usize) {
-                self.draw(&view, mesh, inst);
+                self.draw(&view, mesh, inst, meshes.terminal(inst));
             }
         }
         self.gbuffer.finish();
@@ -173,7 +208,7 @@ impl Renderer {
         shade::picture(gbuffer, style, &palette, (camera.width, camera.height))
     }
 
-    fn draw(&mut self, view: &View, mesh: &RenderMesh, inst: &Instance) {
+    fn draw(&mut self, view: &View, mesh: &RenderMesh, inst: &Instance, terminal: u16) {
         let camera = *view.camera();
         let m = view.affine() * crate::voxelize::to_f64(&inst.transform);
         let proj = view.projector();
@@ -195,7 +230,7 @@ impl Renderer {
         let (cx, cy, sx, sy, perspective) = proj.constants();
         for t in &mesh.triangles {
             let [a, b, c] = t.map(|i| self.view[i as usize]);
-            let face = Face::new([a, b, c], inst.shape, perspective);
+            let face = Face::new([a, b, c], terminal, perspective);
             let plane = Plane::new(&face, [a, b, c], (cx, cy, sx, sy), perspective, near, far);
             let index = self.gbuffer.push_face(face);
             let gbuffer = &mut self.gbuffer;
@@ -287,7 +322,7 @@ impl Plane {
 
     /// The depth from a row's linear term `l = a + b·x + c·y`.
     #[inline(always)]
-    pub(crate) fn from_linear(&self, l: f64) -> f64 {
+    pub(crate) fn depth_of_linear(&self, l: f64) -> f64 {
         let z = if self.perspective { self.num / l } else { l };
         if z.is_finite() {
             z.clamp(self.near, self.far)

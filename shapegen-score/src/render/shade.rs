@@ -63,7 +63,8 @@ impl Lights {
 pub enum Palette {
     /// Readable defaults: shapes named like leaves or foliage green, trunks,
     /// branches and stems brown, the others from a colour-blind-safe
-    /// qualitative palette (Tableau 10) in shape order.
+    /// qualitative palette (Tableau 10) in shape order (unnamed terminal
+    /// types, which never show, take no colour from it).
     #[default]
     Named,
     /// These colours, by shape id (repeated when there are more shapes).
@@ -96,7 +97,9 @@ impl Palette {
                     .iter()
                     .map(|n| {
                         let n = n.to_lowercase();
-                        if ["leaf", "leaves", "foliage", "ball"]
+                        if n.is_empty() {
+                            QUALITATIVE[7]
+                        } else if ["leaf", "leaves", "foliage", "ball"]
                             .iter()
                             .any(|k| n.contains(k))
                         {

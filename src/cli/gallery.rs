@@ -1,0 +1,102 @@
+//! `shapegen gallery`: a thumbnail gallery of an experiment's generator.
+
+use std::time::Instant;
+
+use super::args::GalleryArgs;
+use super::{Cli, CliError, guard, thread_pool};
+use crate::gallery::{GALLERY_FILES, Gallery, GalleryOptions};
+use crate::genome::ChromosomeData;
+
+/// Runs `shapegen gallery`.
+pub(super) fn gallery(cli: &Cli, args: &GalleryArgs) -> Result<(), CliError> {
+    let experiment = cli.load_experiment(
+        args.experiment.experiment.as_deref(),
+        args.experiment.data.as_deref(),
+    )?;
+    let default_model = match &args.default_model {
+        None => None,
+        Some(path) => {
+            crate::experiment::check_regular_file(path).map_err(CliError::msg)?;
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| CliError::msg(format!("cannot read {}: {e}", path.display())))?;
+            let data: ChromosomeData = serde_json::from_str(&text).map_err(|e| {
+                CliError::msg(format!("{}: not a chromosome file: {e}", path.display()))
+            })?;
+            Some(experiment.chromosome(&data, path)?)
+        }
+    };
+    let options = GalleryOptions {
+        samples: args.samples,
+        clusters: args.clusters,
+        seed: args.seed.unwrap_or(experiment.seed()),
+        thumbnail: args.thumbnail,
+        default_model,
+        ..GalleryOptions::default()
+    };
+    let pool = thread_pool(args.threads)?;
+    guard::check_output_dir(&args.out)?;
+    let mut outputs: Vec<_> = GALLERY_FILES.iter().map(|f| args.out.join(f)).collect();
+    outputs.push(args.out.join("models"));
+    let mut inputs = experiment.inputs().to_vec();
+    inputs.extend(args.default_model.iter().cloned());
+    guard::refuse_overwriting_inputs(&outputs, &inputs)?;
+    // A model file of the experiment inside `out/models` would be replaced.
+    let models_dir = std::fs::canonicalize(args.out.join("models")).ok();
+    if let Some((dir, input)) = models_dir.as_ref().and_then(|dir| {
+        inputs
+            .iter()
+            .find(|i| std::fs::canonicalize(i).is_ok_and(|c| c.starts_with(dir)))
+            .map(|i| (dir, i))
+    }) {
+        return Err(CliError::msg(format!(
+            "the gallery would write into {} which holds its input {}: choose another --out; nothing was run",
+            dir.display(),
+            input.display()
+        )));
+    }
+    let total = options.samples + 1;
+    let bar = (!args.quiet).then(|| {
+        let bar = indicatif::ProgressBar::new(total as u64);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{msg} [{bar:30}] {pos}/{len} models, {elapsed} (eta {eta})",
+            )
+            .expect("valid template")
+            .progress_chars("=> "),
+        );
+        bar.set_message(format!("gallery of `{}`", experiment.generator()));
+        bar
+    });
+    let start = Instant::now();
+    let progress = |done: usize| {
+        if let Some(bar) = &bar {
+            bar.set_position(done as u64);
+        }
+    };
+    let gallery = pool
+        .install(|| Gallery::sample(&experiment, &options, &progress))
+        .map_err(|e| CliError::msg(e.to_string()))?;
+    if let Some(bar) = &bar {
+        bar.finish_and_clear();
+    }
+    for note in &gallery.notes {
+        eprintln!("shapegen: note: {note}");
+    }
+    let title = format!("What `{}` can make", experiment.generator());
+    let written = guard::writing(|| gallery.write(&args.out, &experiment, &title))
+        .map_err(|e| CliError::msg(e.to_string()))?;
+    let v = gallery.best_view.viewpoint;
+    println!(
+        "gallery of `{}`: {} models in {} clusters, best view at azimuth {:.0}°, elevation {:.0}°, in {:.1} s; wrote {} files to {} (open {})",
+        experiment.generator(),
+        gallery.models.len(),
+        gallery.clusters.len(),
+        v.azimuth.to_degrees(),
+        v.elevation.to_degrees(),
+        start.elapsed().as_secs_f64(),
+        written.len(),
+        args.out.display(),
+        args.out.join("index.html").display()
+    );
+    Ok(())
+}
