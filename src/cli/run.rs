@@ -179,8 +179,10 @@ pub(super) fn run(cli: &Cli, args: &RunArgs) -> Result<(), CliError> {
         )));
     }
     // A second Ctrl-C waits until the result files are complete.
-    let written =
-        guard::writing(|| output::write_run(&experiment, &result, &curve, &summary, &args.out))?;
+    // The pictures render on the run's threads.
+    let written = guard::writing(|| {
+        pool.install(|| output::write_run(&experiment, &result, &curve, &summary, &args.out))
+    })?;
     println!(
         "best fitness {:.4}{}, {} ({} genes) after {} generations, {} evaluations, {:.1} s",
         result.best_fitness,

@@ -71,6 +71,9 @@ pub enum ExperimentError {
     /// Scoring geometry failed.
     #[error(transparent)]
     Score(#[from] ScoreError),
+    /// Making a picture or gallery failed.
+    #[error(transparent)]
+    Gallery(#[from] crate::gallery::GalleryError),
 }
 
 fn key_prefix(key: &str) -> String {

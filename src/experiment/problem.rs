@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use super::{ExperimentError, MethodParams};
 use crate::express::{Generator, Instance, ShapeId};
+use crate::gallery::Terminals;
 use crate::genome::Chromosome;
 use crate::glam::Affine3A;
 use crate::graph::Graph;
@@ -19,6 +20,7 @@ use crate::score::write_obj;
 use crate::score::{
     ImageScore, ImageTargets, ModelFitness, Quality, Scene, ShapeMeshes, VolumeScore,
 };
+use crate::score::{RenderMeshes, Renderer, Style, write_png_rgba};
 
 /// A scene resolved from an experiment file, before a generator is chosen.
 pub(crate) enum SceneSetup {
@@ -94,6 +96,21 @@ pub(crate) trait SceneOutputs: Scene {
     fn picture_files(&self) -> Vec<String>;
     /// A fingerprint of everything in the scene that changes scores.
     fn fingerprint(&self) -> u64;
+    /// Shaded pictures of the model (`instances` of `meshes`) as the scene
+    /// sees it (an image target's camera); none by default.
+    fn write_views(
+        &self,
+        meshes: &RenderMeshes,
+        instances: &[Instance],
+        dir: &Path,
+    ) -> Result<Vec<PathBuf>, ExperimentError> {
+        let _ = (meshes, instances, dir);
+        Ok(Vec::new())
+    }
+    /// The names of the pictures `write_views` writes.
+    fn view_files(&self) -> Vec<String> {
+        Vec::new()
+    }
 }
 
 impl SceneOutputs for VolumeScene {
@@ -180,6 +197,32 @@ impl SceneOutputs for ImageTargets {
         match self.targets().len() {
             1 => vec!["overlay.png".into()],
             n => (0..n).map(|i| format!("overlay_{i}.png")).collect(),
+        }
+    }
+
+    fn write_views(
+        &self,
+        meshes: &RenderMeshes,
+        instances: &[Instance],
+        dir: &Path,
+    ) -> Result<Vec<PathBuf>, ExperimentError> {
+        let mut renderer = Renderer::new();
+        let mut written = Vec::new();
+        for (target, name) in self.targets().iter().zip(self.view_files()) {
+            let mut picture =
+                renderer.picture(meshes, instances, &target.camera, &Style::default());
+            target.draw_outline(&mut picture);
+            let path = dir.join(name);
+            write_png_rgba(&path, &picture)?;
+            written.push(path);
+        }
+        Ok(written)
+    }
+
+    fn view_files(&self) -> Vec<String> {
+        match self.targets().len() {
+            1 => vec!["view.png".into()],
+            n => (0..n).map(|i| format!("view_{i}.png")).collect(),
         }
     }
 
@@ -273,6 +316,15 @@ where
         let mut scratch = self.fitness.scratch();
         self.fitness.counts(chromosome, &mut scratch);
         written.extend(self.fitness.scene().write_pictures(&scratch.0, dir)?);
+        let png = dir.join("best.png");
+        write_png_rgba(
+            &png,
+            &crate::gallery::best_view_picture(&self.fitness, chromosome, 600)?,
+        )?;
+        written.push(png);
+        let meshes = crate::gallery::render_meshes(&self.fitness, Terminals::Auto)?;
+        let instances = crate::gallery::Models::instances(&self.fitness, chromosome);
+        written.extend(self.fitness.scene().write_views(&meshes, &instances, dir)?);
         Ok(written)
     }
 
@@ -286,6 +338,8 @@ where
             files.push("target.obj".into());
         }
         files.extend(self.fitness.scene().picture_files());
+        files.push("best.png".into());
+        files.extend(self.fitness.scene().view_files());
         files
     }
 

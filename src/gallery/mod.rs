@@ -303,26 +303,7 @@ impl Gallery {
         options: &GalleryOptions,
         progress: &(dyn Fn(usize) + Sync),
     ) -> Result<Self, GalleryError> {
-        let mut meshes = RenderMeshes::new(models.meshes())?;
-        let graph = models.graph();
-        let by_node = match options.terminals {
-            Terminals::Auto => models.meshes().len() == 1,
-            Terminals::Shapes => false,
-            Terminals::Nodes => true,
-        };
-        if by_node {
-            meshes = meshes.with_node_terminals(
-                (0..graph.node_count() as u16)
-                    .map(|n| {
-                        if graph.emits(n) {
-                            graph.node(n).name.to_string()
-                        } else {
-                            String::new()
-                        }
-                    })
-                    .collect(),
-            );
-        }
+        let meshes = render_meshes(models, options.terminals)?;
         let mut all = vec![centre];
         all.extend(others);
         let mut instances: Vec<Vec<Instance>> =
@@ -456,4 +437,66 @@ fn empty_thumbnail(side: u32) -> image::RgbaImage {
         }
     }
     img
+}
+
+/// `models`' meshes prepared for rendering, with terminal types as `terminals` says.
+pub fn render_meshes(
+    models: &dyn Models,
+    terminals: Terminals,
+) -> Result<RenderMeshes, GalleryError> {
+    let meshes = RenderMeshes::new(models.meshes())?;
+    let graph = models.graph();
+    let by_node = match terminals {
+        Terminals::Auto => models.meshes().len() == 1,
+        Terminals::Shapes => false,
+        Terminals::Nodes => true,
+    };
+    if !by_node {
+        return Ok(meshes);
+    }
+    // Nodes that emit nothing are unnamed: they take no palette colour.
+    Ok(meshes.with_node_terminals(
+        (0..graph.node_count() as u16)
+            .map(|n| {
+                if graph.emits(n) {
+                    graph.node(n).name.to_string()
+                } else {
+                    String::new()
+                }
+            })
+            .collect(),
+    ))
+}
+
+/// The model of `chromosome` from its best view (thesis weights, 32
+/// viewpoints), `size` pixels square, framed tightly and supersampled; a
+/// faint cross if it emits nothing.
+pub fn best_view_picture(
+    models: &dyn Models,
+    chromosome: &Chromosome,
+    size: u32,
+) -> Result<image::RgbaImage, GalleryError> {
+    let meshes = render_meshes(models, Terminals::Auto)?;
+    let instances = models.instances(chromosome);
+    let Some(sphere) = meshes.bounding_sphere(&instances) else {
+        return Ok(empty_thumbnail(size));
+    };
+    let sampling = ViewSampling::default();
+    let mut renderer = Renderer::new();
+    let view = best_view(
+        &mut renderer,
+        &meshes,
+        &instances,
+        &sampling,
+        &AttributeWeights::BEST_VIEW,
+        &Style::fast(),
+    )?;
+    let camera = view
+        .viewpoint
+        .camera(&sphere, sampling.fov_y, (sampling.size, sampling.size))?;
+    let g = renderer.render(&meshes, &instances, &camera);
+    let mut camera = frame_tightly(&camera, g, 0.06);
+    camera.width = size;
+    camera.height = size;
+    Ok(renderer.picture(&meshes, &instances, &camera, &Style::default()))
 }

@@ -7,6 +7,9 @@
 //! | `target.obj` | the volume targets as placed | [`Experiment::write_model`] |
 //! | `slice_x/y/z.png` | middle voxel slices (volume scenes) | [`Experiment::write_model`] |
 //! | `overlay.png` | silhouette over the target (image scenes) | [`Experiment::write_model`] |
+//! | `best.png` | the best model shaded, from its best view | [`Experiment::write_model`] |
+//! | `view.png` | the best model shaded from the target camera, the target's outline over it (image scenes) | [`Experiment::write_model`] |
+//! | `population.png` | the final population clustered around the best model, like a gallery | [`write_population`] |
 //! | `best.json` | the best chromosome in the validated exchange form | [`write_chromosome`] |
 //! | `curve.csv` | per generation: seconds, evaluations, best, mean, std | [`write_curve`] |
 //! | `summary.json` | the run's figures, IoU/precision/recall per target | [`Summary`] |
@@ -130,8 +133,52 @@ impl Summary {
 #[must_use]
 pub fn run_files(experiment: &Experiment) -> Vec<String> {
     let mut files = experiment.model_files();
-    files.extend(["best.json", "curve.csv", "summary.json"].map(String::from));
+    files.extend(["population.png", "best.json", "curve.csv", "summary.json"].map(String::from));
     files
+}
+
+/// Most models of a final population [`write_population`] shows.
+pub const POPULATION_SHOWN: usize = 300;
+
+/// Writes `population.png`: the final population (its first
+/// [`POPULATION_SHOWN`] distinct models) clustered like a gallery around the
+/// best model, each from the best model's best view, so one sees what the
+/// optimizer kept.
+pub fn write_population(
+    experiment: &Experiment,
+    result: &RunResult,
+    seed: u64,
+    path: &Path,
+) -> Result<(), ExperimentError> {
+    let mut others: Vec<Chromosome> = Vec::new();
+    for ind in &result.population {
+        if others.len() >= POPULATION_SHOWN {
+            break;
+        }
+        if ind.chromosome != result.best && !others.contains(&ind.chromosome) {
+            others.push(ind.chromosome.clone());
+        }
+    }
+    let picture = if others.is_empty() {
+        crate::gallery::best_view_picture(experiment, &result.best, 480)?
+    } else {
+        let options = crate::gallery::GalleryOptions {
+            clusters: (others.len() + 1).clamp(2, 14),
+            thumbnail: 120,
+            seed,
+            ..crate::gallery::GalleryOptions::default()
+        };
+        crate::gallery::Gallery::of(
+            "best model",
+            experiment,
+            result.best.clone(),
+            others,
+            &options,
+            &|_| {},
+        )?
+        .picture()
+    };
+    Ok(crate::score::write_png_rgba(path, &picture)?)
 }
 
 /// Writes every result file of a run into `dir` (created if missing):
@@ -146,6 +193,9 @@ pub fn write_run(
 ) -> Result<Vec<PathBuf>, ExperimentError> {
     std::fs::create_dir_all(dir).map_err(|e| ExperimentError::write(dir, e))?;
     let mut written = experiment.write_model(&result.best, dir)?;
+    let population = dir.join("population.png");
+    write_population(experiment, result, summary.seed, &population)?;
+    written.push(population);
     let best = dir.join("best.json");
     write_chromosome(&best, experiment, &result.best)?;
     let csv = dir.join("curve.csv");

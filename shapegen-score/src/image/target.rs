@@ -233,6 +233,38 @@ impl ImageTarget {
     }
 }
 
+impl ImageTarget {
+    /// Draws the target's outline (target pixels with a 4-neighbour outside
+    /// the target or on the image border) over `picture` (of the camera's
+    /// size) in dark red, two pixels wide, so a render can be compared
+    /// with what it should match.
+    pub fn draw_outline(&self, picture: &mut image::RgbaImage) {
+        let (w, h) = (self.camera.width as usize, self.camera.height as usize);
+        if picture.dimensions() != (self.camera.width, self.camera.height) {
+            return;
+        }
+        let inside = |x: isize, y: isize| {
+            x >= 0
+                && y >= 0
+                && (x as usize) < w
+                && (y as usize) < h
+                && self.weights[y as usize * w + x as usize] > 0.0
+        };
+        for y in 0..h as isize {
+            for x in 0..w as isize {
+                if !inside(x, y) {
+                    continue;
+                }
+                // Two pixels wide: any pixel within 2 of the outside.
+                let edge = (-2..=2).any(|d| !inside(x + d, y) || !inside(x, y + d));
+                if edge {
+                    picture.put_pixel(x as u32, y as u32, image::Rgba([170, 20, 30, 255]));
+                }
+            }
+        }
+    }
+}
+
 /// Parses a PFM image of `size` into row-major values, row 0 at the top.
 fn read_pfm(bytes: &[u8], size: (u32, u32)) -> Result<Vec<f32>, String> {
     // Header: three whitespace-separated tokens ("Pf"/"PF", "W H", scale), one byte, data.

@@ -25,14 +25,12 @@ pub struct Face {
     pub drawn: u32,
     /// Pixels where it is the nearest surface.
     pub visible: u32,
-    /// `(b − a) × (c − a)` in view space (the plane's normal, not unit).
-    pub(crate) raw_normal: DVec3,
 }
 
 impl Face {
-    /// The face of view-space triangle `v` of terminal type `terminal`.
-    pub(crate) fn new(v: [DVec3; 3], terminal: u16, perspective: bool) -> Self {
-        let raw = (v[1] - v[0]).cross(v[2] - v[0]);
+    /// The face of view-space triangle `v` (with `raw = (b − a) × (c − a)`)
+    /// of terminal type `terminal`.
+    pub(crate) fn new(raw: DVec3, v: [DVec3; 3], terminal: u16, perspective: bool) -> Self {
         let len = raw.length();
         // From the eye toward the triangle.
         let towards = if perspective {
@@ -52,7 +50,6 @@ impl Face {
             area: 0.5 * len,
             drawn: 0,
             visible: 0,
-            raw_normal: raw,
         }
     }
 }
@@ -64,6 +61,7 @@ impl Face {
 pub struct GBuffer {
     width: u32,
     height: u32,
+    /// Depth keys (see `Plane`): smaller is nearer; +∞ for the background.
     depth: Vec<f64>,
     face: Vec<u32>,
     faces: Vec<Face>,
@@ -96,23 +94,21 @@ impl GBuffer {
         (self.faces.len() - 1) as u32
     }
 
-    /// Draws face `index` over span `s` with depths from `plane`: a pixel
-    /// takes the face if it is strictly nearer than what it holds.
+    /// Draws face `index` over span `s` with depth keys from `plane`: a
+    /// pixel takes the face if it is strictly nearer than what it holds
+    /// (branch-free: the nearer key and its face are selected).
     #[inline]
     pub(crate) fn span(&mut self, s: PixelSpan, index: u32, plane: &Plane) {
         let row = s.row as usize * self.width as usize;
         let (l0, b) = plane.row(f64::from(s.row) + 0.5);
-        let (depth, face) = (
-            &mut self.depth[row + s.c0 as usize..row + s.c1 as usize],
-            &mut self.face[row + s.c0 as usize..row + s.c1 as usize],
-        );
+        let range = row + s.c0 as usize..row + s.c1 as usize;
+        let (depth, face) = (&mut self.depth[range.clone()], &mut self.face[range]);
         let mut x = f64::from(s.c0) + 0.5;
         for (d, f) in depth.iter_mut().zip(face.iter_mut()) {
-            let z = plane.depth_of_linear(l0 + b * x);
-            if z < *d {
-                *d = z;
-                *f = index;
-            }
+            let k = plane.clamp(l0 + b * x);
+            let nearer = k < *d;
+            *d = if nearer { k } else { *d };
+            *f = if nearer { index } else { *f };
             x += 1.0;
         }
         self.faces[index as usize].drawn += s.c1 - s.c0;
@@ -180,7 +176,8 @@ impl GBuffer {
     #[inline]
     #[must_use]
     pub fn depth(&self, i: usize) -> Option<f64> {
-        self.covered(i).then(|| self.depth[i])
+        self.covered(i)
+            .then(|| super::depth_of(self.depth[i], self.perspective))
     }
 
     /// The face seen at pixel `i`.

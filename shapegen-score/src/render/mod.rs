@@ -230,11 +230,22 @@ impl Renderer {
         let (cx, cy, sx, sy, perspective) = proj.constants();
         for t in &mesh.triangles {
             let [a, b, c] = t.map(|i| self.view[i as usize]);
-            let face = Face::new([a, b, c], terminal, perspective);
-            let plane = Plane::new(&face, [a, b, c], (cx, cy, sx, sy), perspective, near, far);
-            let index = self.gbuffer.push_face(face);
+            // The face and its depth plane are made on its first span: many
+            // triangles cover no pixel centre.
+            let mut made: Option<(u32, Plane)> = None;
             let gbuffer = &mut self.gbuffer;
-            let mut f = |s: crate::PixelSpan| gbuffer.span(s, index, &plane);
+            let mut f = |s: crate::PixelSpan| {
+                let (index, plane) = *made.get_or_insert_with(|| {
+                    let raw = (b - a).cross(c - a);
+                    let plane =
+                        Plane::new(raw, [a, b, c], (cx, cy, sx, sy), perspective, near, far);
+                    (
+                        gbuffer.push_face(Face::new(raw, [a, b, c], terminal, perspective)),
+                        plane,
+                    )
+                });
+                gbuffer.span(s, index, &plane);
+            };
             if in_range(&a) && in_range(&b) && in_range(&c) {
                 let px = t.map(|i| self.pixels[i as usize]);
                 fill_triangle(&camera, px, &mut f);
@@ -254,80 +265,78 @@ impl Renderer {
     }
 }
 
-/// A triangle's depth at pixel centres: `Z = num / (a + b·x + c·y)`
-/// (perspective, `num` the plane's offset) or `Z = a + b·x + c·y`
-/// (orthographic), clamped to the camera's depth range.
+/// A triangle's depth *key* at pixel centres, linear in the pixel
+/// coordinates: `key = a + b·x + c·y`, smaller is nearer. The key is
+/// `−1/Z` for a perspective camera (`1/Z` is affine in screen space) and
+/// `Z` for an orthographic one, clamped to the keys of `near` and `far`.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Plane {
-    num: f64,
     a: f64,
     b: f64,
     c: f64,
-    perspective: bool,
-    /// The depth used where the plane gives none (a triangle seen edge on).
-    fallback: f64,
-    near: f64,
-    far: f64,
+    lo: f64,
+    hi: f64,
+}
+
+/// The depth key of depth `z` (see [`Plane`]).
+#[inline]
+pub(crate) fn key_of(z: f64, perspective: bool) -> f64 {
+    if perspective { -1.0 / z } else { z }
+}
+
+/// The depth of key `k` (see [`Plane`]).
+#[inline]
+pub(crate) fn depth_of(k: f64, perspective: bool) -> f64 {
+    if perspective { -1.0 / k } else { k }
 }
 
 impl Plane {
     fn new(
-        face: &Face,
+        n: DVec3,
         v: [DVec3; 3],
         (cx, cy, sx, sy): (f64, f64, f64, f64),
         perspective: bool,
         near: f64,
         far: f64,
     ) -> Self {
-        let n = face.raw_normal;
         let d = n.dot(v[0]);
-        let fallback = v[0].z.min(v[1].z).min(v[2].z).clamp(near, far);
+        let (lo, hi) = (key_of(near, perspective), key_of(far, perspective));
         // The pixel centre (x, y) is the view point (X, Y) with
         // X = (x − cx)/sx·w, Y = −(y − cy)/sy·w, where w = Z (perspective) or 1.
         let (bx, by) = (n.x / sx, -n.y / sy);
         let a0 = -bx * cx - by * cy;
-        if perspective {
-            // n·(X, Y, Z) = d with (X, Y) = Z·(dir): Z = d / (n·dir).
-            Self {
-                num: d,
-                a: a0 + n.z,
-                b: bx,
-                c: by,
-                perspective,
-                fallback,
-                near,
-                far,
-            }
+        let (a, b, c) = if perspective {
+            // n·(X, Y, Z) = d with (X, Y) = Z·(dir): 1/Z = (n·dir)/d.
+            let r = -1.0 / d;
+            ((a0 + n.z) * r, bx * r, by * r)
         } else {
             // Z = (d − n.x·X − n.y·Y) / n.z.
             let r = 1.0 / n.z;
-            Self {
-                num: 0.0,
-                a: (d - a0) * r,
-                b: -bx * r,
-                c: -by * r,
-                perspective,
-                fallback,
-                near,
-                far,
-            }
+            ((d - a0) * r, -bx * r, -by * r)
+        };
+        if a.is_finite() && b.is_finite() && c.is_finite() {
+            return Self { a, b, c, lo, hi };
+        }
+        // Seen edge on (or through the eye): the nearest vertex's depth.
+        let z = v[0].z.min(v[1].z).min(v[2].z).clamp(near, far);
+        Self {
+            a: key_of(z, perspective),
+            b: 0.0,
+            c: 0.0,
+            lo,
+            hi,
         }
     }
 
-    /// The row's constant part and the slope along x, for stepping.
+    /// The row's key at `x = 0` and its slope along x.
     #[inline(always)]
     pub(crate) fn row(&self, y: f64) -> (f64, f64) {
         (self.a + self.c * y, self.b)
     }
 
-    /// The depth from a row's linear term `l = a + b·x + c·y`.
+    /// A key clamped to the depth range (a NaN becomes the near limit).
     #[inline(always)]
-    pub(crate) fn depth_of_linear(&self, l: f64) -> f64 {
-        let z = if self.perspective { self.num / l } else { l };
-        if z.is_finite() {
-            z.clamp(self.near, self.far)
-        } else {
-            self.fallback
-        }
+    pub(crate) fn clamp(&self, k: f64) -> f64 {
+        k.max(self.lo).min(self.hi)
     }
 }
