@@ -239,6 +239,8 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
         optimum: experiment.optimum(),
         methods: BTreeMap::new(),
     };
+    // Each method's best model, for best_by_method.png.
+    let mut best_pictures = Vec::new();
     for (&method, runs) in &all {
         let full = |t: f64| {
             let (m, s, n) = at(runs, t);
@@ -310,8 +312,16 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
             },
         );
         let dir = out.join(method.name());
+        best_pictures.push((
+            format!("{method}: {:.3}", best_run.result.best_fitness),
+            crate::gallery::best_view_picture(&experiment, &best_run.result.best, 320)
+                .map_err(|e| CliError::msg(e.to_string()))?,
+        ));
         experiment.write_model(&best_run.result.best, &dir)?;
         output::write_chromosome(&dir.join("best.json"), &experiment, &best_run.result.best)?;
+    }
+    if let Some(warning) = plot::labelled_row(&out.join("best_by_method.png"), &best_pictures)? {
+        eprintln!("shapegen: warning: {warning}");
     }
     let mut runs_csv = String::from("method,run,seed,generation,seconds,evaluations,best,mean\n");
     for (method, runs) in &all {
@@ -369,7 +379,7 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
         );
     }
     println!(
-        "wrote {0}/curves.csv, {0}/runs.csv, {0}/summary.json, {0}/curves.png and each method's best model in {0}/<method>/",
+        "wrote {0}/curves.csv, {0}/runs.csv, {0}/summary.json, {0}/curves.png, {0}/best_by_method.png and each method's best model in {0}/<method>/",
         out.display()
     );
     Ok(())
