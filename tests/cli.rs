@@ -95,8 +95,16 @@ fn run_on_the_builtin_experiment_writes_consistent_results() {
         "slice_x.png",
         "slice_y.png",
         "slice_z.png",
+        "best.png",
+        "population.png",
     ] {
         assert!(out.join(f).is_file(), "{f} missing");
+    }
+    // The pictures show a model: many pixels that are not background.
+    for f in ["best.png", "population.png"] {
+        let img = image::open(out.join(f)).unwrap().to_rgb8();
+        let drawn = img.pixels().filter(|p| p.0 != [255, 255, 255]).count();
+        assert!(drawn * 50 > img.len() / 3, "{f}: only {drawn} pixels drawn");
     }
     let summary = check_consistent(&out);
     assert_eq!(summary["generations"], 15);
@@ -207,6 +215,7 @@ fn compare_writes_curves_and_a_summary() {
         "runs.csv",
         "summary.json",
         "curves.png",
+        "best_by_method.png",
         "ga/best.obj",
         "rjmcmc/best.json",
     ] {
@@ -275,7 +284,9 @@ fn a_paper_experiment_runs_with_a_short_budget() {
         "{}",
         String::from_utf8_lossy(&run.stderr)
     );
-    assert!(out.join("overlay.png").is_file());
+    for f in ["overlay.png", "view.png", "best.png", "population.png"] {
+        assert!(out.join(f).is_file(), "{f} missing");
+    }
     let summary = check_consistent(&out);
     assert_eq!(summary["experiment"], "city_skyline_whale");
     assert_eq!(summary["generator"], "space_filling_city");

@@ -10,6 +10,9 @@ mod cli;
 mod custom_generator;
 /// The macro's generated code against the run-time interpreter.
 mod express_props;
+/// Thumbnail galleries: the command, its files and clustering invariants.
+#[cfg(feature = "cli")]
+mod gallery;
 /// Evaluating a fitness allocates nothing after warm-up.
 mod no_alloc;
 /// The binary against careless and hostile input.

@@ -165,6 +165,59 @@ fn draw(
     Ok(())
 }
 
+/// Writes pictures side by side, each with its label below (no labels if
+/// no font is found: then a warning is returned, as for [`curves`]).
+pub fn labelled_row(
+    path: &Path,
+    items: &[(String, image::RgbaImage)],
+) -> Result<Option<String>, CliError> {
+    let side = items
+        .iter()
+        .map(|(_, p)| p.width().max(p.height()))
+        .max()
+        .unwrap_or(1);
+    let (gap, label) = (16u32, 36u32);
+    let n = items.len().max(1) as u32;
+    let (w, h) = (n * side + (n + 1) * gap, side + label + gap);
+    let mut canvas = image::RgbImage::from_pixel(w, h, image::Rgb([255, 255, 255]));
+    for (k, (_, picture)) in items.iter().enumerate() {
+        let x0 = gap + k as u32 * (side + gap);
+        for (x, y, p) in picture.enumerate_pixels() {
+            let a = f32::from(p[3]) / 255.0;
+            let blend = |c: u8| (f32::from(c) * a + 255.0 * (1.0 - a)).round() as u8;
+            canvas.put_pixel(
+                x0 + x,
+                gap + y,
+                image::Rgb([blend(p[0]), blend(p[1]), blend(p[2])]),
+            );
+        }
+    }
+    let text = font();
+    if text {
+        let mut buffer = canvas.into_raw();
+        {
+            let area = BitMapBackend::with_buffer(&mut buffer, (w, h)).into_drawing_area();
+            let style = ("sans-serif", 22).into_font().color(&BLACK);
+            for (k, (name, _)) in items.iter().enumerate() {
+                let x = (gap + k as u32 * (side + gap) + side / 2) as i32;
+                let (tw, _) = area.estimate_text_size(name, &style).unwrap_or((0, 0));
+                area.draw_text(name, &style, (x - tw as i32 / 2, (gap + side + 6) as i32))
+                    .map_err(|e| CliError::msg(format!("cannot draw {}: {e}", path.display())))?;
+            }
+            area.present()
+                .map_err(|e| CliError::msg(format!("cannot draw {}: {e}", path.display())))?;
+        }
+        canvas = image::RgbImage::from_raw(w, h, buffer).expect("the buffer keeps its size");
+    }
+    crate::score::write_png(path, &canvas)?;
+    Ok((!text).then(|| {
+        format!(
+            "no TrueType font found (set SHAPEGEN_FONT): {} has no labels",
+            path.display()
+        )
+    }))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -193,49 +246,4 @@ mod tests {
         }
         std::fs::remove_dir_all(&dir).unwrap();
     }
-}
-
-/// Writes pictures side by side, each with its label below (no labels if
-/// no font is found: then a warning is returned, as for [`curves`]).
-pub fn labelled_row(
-    path: &Path,
-    items: &[(String, image::RgbaImage)],
-) -> Result<Option<String>, CliError> {
-    let side = items.iter().map(|(_, p)| p.width().max(p.height())).max().unwrap_or(1);
-    let (gap, label) = (16u32, 36u32);
-    let n = items.len().max(1) as u32;
-    let (w, h) = (n * side + (n + 1) * gap, side + label + gap);
-    let mut canvas = image::RgbImage::from_pixel(w, h, image::Rgb([255, 255, 255]));
-    for (k, (_, picture)) in items.iter().enumerate() {
-        let x0 = gap + k as u32 * (side + gap);
-        for (x, y, p) in picture.enumerate_pixels() {
-            let a = f32::from(p[3]) / 255.0;
-            let blend = |c: u8| (f32::from(c) * a + 255.0 * (1.0 - a)).round() as u8;
-            canvas.put_pixel(x0 + x, gap + y, image::Rgb([blend(p[0]), blend(p[1]), blend(p[2])]));
-        }
-    }
-    let text = font();
-    if text {
-        let mut buffer = canvas.into_raw();
-        {
-            let area = BitMapBackend::with_buffer(&mut buffer, (w, h)).into_drawing_area();
-            let style = ("sans-serif", 22).into_font().color(&BLACK);
-            for (k, (name, _)) in items.iter().enumerate() {
-                let x = (gap + k as u32 * (side + gap) + side / 2) as i32;
-                let (tw, _) = area.estimate_text_size(name, &style).unwrap_or((0, 0));
-                area.draw_text(name, &style, (x - tw as i32 / 2, (gap + side + 6) as i32))
-                    .map_err(|e| CliError::msg(format!("cannot draw {}: {e}", path.display())))?;
-            }
-            area.present()
-                .map_err(|e| CliError::msg(format!("cannot draw {}: {e}", path.display())))?;
-        }
-        canvas = image::RgbImage::from_raw(w, h, buffer).expect("the buffer keeps its size");
-    }
-    crate::score::write_png(path, &canvas)?;
-    Ok((!text).then(|| {
-        format!(
-            "no TrueType font found (set SHAPEGEN_FONT): {} has no labels",
-            path.display()
-        )
-    }))
 }
