@@ -288,3 +288,47 @@ fn fitted_cameras_frame_the_bounding_sphere() {
         );
     }
 }
+
+/// Pictures: the background is white or transparent, the model's pixels
+/// opaque and coloured; supersampling blends the edges; more light on a
+/// face turned to the key light.
+#[test]
+fn pictures_are_lit_supersampled_and_optionally_transparent() {
+    use shapegen_score::{Background, Style};
+    let meshes = [Mesh::unit_cube()];
+    let prepared = RenderMeshes::new(&shape_meshes(&meshes)).unwrap();
+    let instances = [Instance::new(0, Affine3A::from_rotation_y(0.6))];
+    let sphere = prepared.bounding_sphere(&instances).unwrap();
+    let cam = fit_camera(&sphere, BoundingSphere::direction(0.3, 0.5), 0.7, (64, 64)).unwrap();
+    let mut renderer = Renderer::new();
+    let coverage = renderer.render(&prepared, &instances, &cam).coverage();
+    let clear = Style {
+        background: Background::Transparent,
+        supersample: 1,
+        ..Style::default()
+    };
+    let img = renderer.picture(&prepared, &instances, &cam, &clear);
+    assert_eq!(img.dimensions(), (64, 64));
+    for (i, p) in img.pixels().enumerate() {
+        assert_eq!(p[3], if coverage[i] { 255 } else { 0 }, "pixel {i}");
+    }
+    let white = renderer.picture(&prepared, &instances, &cam, &Style::default());
+    let corner = white.get_pixel(0, 0);
+    assert_eq!(corner.0, [255, 255, 255, 255]);
+    // Supersampled: some edge pixels are between background and model.
+    let smooth = Style {
+        background: Background::Transparent,
+        ..Style::default()
+    };
+    let img = renderer.picture(&prepared, &instances, &cam, &smooth);
+    assert!(img.pixels().any(|p| p[3] > 0 && p[3] < 255));
+    // Three faces show, with three different intensities.
+    let mut shades: Vec<[u8; 3]> = white
+        .pixels()
+        .filter(|p| p.0 != [255; 4])
+        .map(|p| [p[0], p[1], p[2]])
+        .collect();
+    shades.sort_unstable();
+    shades.dedup();
+    assert!(shades.len() >= 3, "{shades:?}");
+}
