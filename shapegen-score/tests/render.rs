@@ -182,6 +182,35 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 32, ..ProptestConfig::default() })]
+
+    /// Many instances crowded together and seen by fitted cameras (nothing
+    /// cut by the depth range, most triangles hidden, so the occlusion test
+    /// skips triangles and instances): still exactly the rasterizer's
+    /// coverage and the ray-cast depth.
+    #[test]
+    fn crowded_scenes_stay_exact(azimuth in -3.2f64..3.2, elevation in -1.2f64..1.2, ortho in any::<bool>(), placements in proptest::collection::vec((placement(0.3..1.5, Vec3::splat(-0.8), Vec3::splat(0.8)), 0u16..7), 10..30)) {
+        let meshes = meshes();
+        let prepared = RenderMeshes::new(&shape_meshes(&meshes)).unwrap();
+        let instances: Vec<Instance> = placements.iter().map(|&(transform, shape)| Instance::new(shape, transform)).collect();
+        let sphere = prepared.bounding_sphere(&instances).unwrap();
+        let dir = BoundingSphere::direction(azimuth, elevation);
+        let cam = if ortho {
+            fit_orthographic(&sphere, dir, (96, 80)).unwrap()
+        } else {
+            fit_camera(&sphere, dir, 0.8, (96, 80)).unwrap()
+        };
+        let mut renderer = Renderer::new();
+        let g = renderer.render(&prepared, &instances, &cam);
+        let expected = covered_by_rasterizer(&cam, &meshes, &instances);
+        let differ = (0..expected.len()).filter(|&i| g.covered(i) != expected[i]).count();
+        prop_assert_eq!(differ, 0, "{} pixels differ from the rasterizer's coverage", differ);
+        let bad = depth_mismatches(&cam, g, &world_triangles(&meshes, &instances));
+        prop_assert!(bad.is_empty(), "{} depths differ, e.g. {:?}", bad.len(), &bad[..bad.len().min(3)]);
+    }
+}
+
 /// A unit cube seen face on (orthographic): one face of area 1 visible, the
 /// four side faces edge on (no pixels), the back face hidden.
 #[test]

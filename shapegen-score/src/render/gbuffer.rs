@@ -10,6 +10,13 @@ use crate::raster::PixelSpan;
 /// No face: the background.
 const NONE: u32 = u32::MAX;
 
+/// Side of the square tiles whose farthest depth key is kept for
+/// occlusion tests.
+const TILE: usize = 8;
+
+/// Inclusive pixel box `(x0, y0, x1, y1)`, empty if `x0 > x1`.
+pub(crate) type PixelBox = (usize, usize, usize, usize);
+
 /// One rendered triangle (one instance's triangle placed in the world).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Face {
@@ -66,6 +73,13 @@ pub struct GBuffer {
     face: Vec<u32>,
     faces: Vec<Face>,
     terminals: usize,
+    /// Per tile of `TILE²` pixels: the farthest depth key in it (+∞ while
+    /// a pixel is uncovered), kept up to date as instances are drawn.
+    tile_max: Vec<f64>,
+    /// Tiles across.
+    tiles_wide: usize,
+    /// Whether `tile_max` is exact (not after an instance cut by the depth range).
+    tiles_valid: bool,
     /// `(cx, cy, sx, sy)` of the camera, for pixel solid angles.
     projection: (f64, f64, f64, f64),
     perspective: bool,
@@ -83,6 +97,11 @@ impl GBuffer {
         self.face.resize(n, NONE);
         self.faces.clear();
         self.terminals = terminals;
+        self.tiles_wide = (camera.width as usize).div_ceil(TILE);
+        let tiles = self.tiles_wide * (camera.height as usize).div_ceil(TILE);
+        self.tile_max.clear();
+        self.tile_max.resize(tiles, f64::INFINITY);
+        self.tiles_valid = true;
         let (cx, cy, sx, sy, perspective) = camera.projector().constants();
         self.projection = (cx, cy, sx, sy);
         self.perspective = perspective;
@@ -112,6 +131,71 @@ impl GBuffer {
             x += 1.0;
         }
         self.faces[index as usize].drawn += s.c1 - s.c0;
+    }
+
+    /// The pixels an instance whose vertices project into `[lo, hi]` can
+    /// cover (one pixel more on each side for rounding), clamped to the image.
+    pub(crate) fn pixel_box(&self, lo: glam::DVec2, hi: glam::DVec2) -> PixelBox {
+        let (w, h) = (self.width as f64, self.height as f64);
+        let clamp = |v: f64, max: f64| v.clamp(0.0, max) as usize;
+        if !(lo.x < w + 1.0 && lo.y < h + 1.0 && hi.x > -1.0 && hi.y > -1.0) {
+            return (1, 1, 0, 0);
+        }
+        (
+            clamp(lo.x - 1.0, w - 1.0),
+            clamp(lo.y - 1.0, h - 1.0),
+            clamp(hi.x + 1.0, w - 1.0),
+            clamp(hi.y + 1.0, h - 1.0),
+        )
+    }
+
+    /// Whether every pixel of `b` already holds a key at most `k` (less a
+    /// margin of `10⁻⁶·|k|` for the rounding of interpolated keys): then
+    /// no face with keys of at least `k` can take any of them.
+    pub(crate) fn hidden(&self, b: PixelBox, k: f64) -> bool {
+        let (x0, y0, x1, y1) = b;
+        if x0 > x1 || y0 > y1 {
+            return true; // nothing in the image
+        }
+        if !self.tiles_valid {
+            return false;
+        }
+        let limit = k - 1e-6 * k.abs();
+        for ty in y0 / TILE..=y1 / TILE {
+            for tx in x0 / TILE..=x1 / TILE {
+                if self.tile_max[ty * self.tiles_wide + tx] > limit {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    /// Recomputes the farthest key of the tiles overlapping `b`.
+    pub(crate) fn update_tiles(&mut self, b: PixelBox) {
+        let (x0, y0, x1, y1) = b;
+        if x0 > x1 || y0 > y1 || !self.tiles_valid {
+            return;
+        }
+        let (w, h) = (self.width as usize, self.height as usize);
+        for ty in y0 / TILE..=y1 / TILE {
+            for tx in x0 / TILE..=x1 / TILE {
+                let mut max = f64::NEG_INFINITY;
+                for y in ty * TILE..((ty + 1) * TILE).min(h) {
+                    let row = &self.depth[y * w + tx * TILE..y * w + ((tx + 1) * TILE).min(w)];
+                    for &d in row {
+                        max = if d > max { d } else { max };
+                    }
+                }
+                self.tile_max[ty * self.tiles_wide + tx] = max;
+            }
+        }
+    }
+
+    /// Stops occlusion tests for this render (an instance was drawn whose
+    /// pixels are not bounded by its vertices' box).
+    pub(crate) fn forget_tiles(&mut self) {
+        self.tiles_valid = false;
     }
 
     /// Counts each face's visible pixels.

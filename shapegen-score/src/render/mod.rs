@@ -154,6 +154,8 @@ pub struct Renderer {
     clip2: Vec<DVec3>,
     hull: Vec<DVec2>,
     edges: Vec<Edge>,
+    /// Instances by increasing depth of their origin.
+    order: Vec<(f64, u32)>,
 }
 
 impl Renderer {
@@ -174,7 +176,20 @@ impl Renderer {
     ) -> &GBuffer {
         self.gbuffer.reset(camera, meshes.terminal_types());
         let view = View::new(camera);
-        for inst in instances {
+        // Front to back, so that instances wholly behind what is already
+        // drawn are found and skipped (see `draw`).
+        self.order.clear();
+        self.order
+            .extend(instances.iter().enumerate().map(|(i, inst)| {
+                let z = camera
+                    .forward
+                    .dot(inst.transform.translation.as_dvec3() - camera.eye);
+                (if z.is_finite() { z } else { f64::INFINITY }, i as u32)
+            }));
+        self.order
+            .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        for k in 0..self.order.len() {
+            let inst = &instances[self.order[k].1 as usize];
             if let Some(mesh) = meshes.meshes.get(inst.shape as usize) {
                 self.draw(&view, mesh, inst, meshes.terminal(inst));
             }
@@ -228,8 +243,39 @@ impl Renderer {
             return;
         }
         let (cx, cy, sx, sy, perspective) = proj.constants();
+        // Occlusion: an instance wholly in the depth range whose every
+        // pixel is already covered by something nearer than its nearest
+        // vertex can add nothing (a pixel only takes a strictly nearer face).
+        let mut bounds = None;
+        if self.view.iter().all(in_range) {
+            let (mut lo, mut hi) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
+            let mut zmin = f64::INFINITY;
+            for (p, v) in self.pixels.iter().zip(&self.view) {
+                lo = lo.min(*p);
+                hi = hi.max(*p);
+                zmin = zmin.min(v.z);
+            }
+            let b = self.gbuffer.pixel_box(lo, hi);
+            if self.gbuffer.hidden(b, key_of(zmin, perspective)) {
+                return;
+            }
+            bounds = Some(b);
+        }
         for t in &mesh.triangles {
             let [a, b, c] = t.map(|i| self.view[i as usize]);
+            if bounds.is_some() {
+                // The same test per triangle, against the tiles as they were
+                // before this instance (farthest keys only shrink as faces
+                // are drawn, so older tiles are conservative).
+                let [pa, pb, pc] = t.map(|i| self.pixels[i as usize]);
+                let pbox = self
+                    .gbuffer
+                    .pixel_box(pa.min(pb).min(pc), pa.max(pb).max(pc));
+                let zmin = a.z.min(b.z).min(c.z);
+                if self.gbuffer.hidden(pbox, key_of(zmin, perspective)) {
+                    continue;
+                }
+            }
             // The face and its depth plane are made on its first span: many
             // triangles cover no pixel centre.
             let mut made: Option<(u32, Plane)> = None;
@@ -261,6 +307,11 @@ impl Renderer {
             self.hull
                 .extend(self.clip.iter().map(|v| proj.to_pixel(*v)));
             fill_convex(&camera, &self.hull, &mut self.edges, &mut f);
+        }
+        if let Some(b) = bounds {
+            self.gbuffer.update_tiles(b);
+        } else {
+            self.gbuffer.forget_tiles();
         }
     }
 }

@@ -35,11 +35,11 @@ impl Default for Lights {
         };
         Self {
             lights: [
-                light(-1.0, 1.0, -1.2, 0.75),
-                light(1.2, 0.2, -1.0, 0.35),
-                light(0.3, 1.0, 1.2, 0.45),
+                light(-1.0, 1.0, -1.2, 0.7),
+                light(1.2, 0.2, -1.0, 0.45),
+                light(0.3, 1.0, 1.2, 0.35),
             ],
-            ambient: 0.12,
+            ambient: 0.22,
         }
     }
 }
