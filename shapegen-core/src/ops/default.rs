@@ -7,7 +7,8 @@
 //! `max_depth`, fewer than `L_max` genes. A graph without `L_max` is capped
 //! at [`UNBOUNDED_CAP`] genes (a slot with `p = 1` on a cycle would never
 //! end). A tree shorter than `L_min` is grown, slot by slot in order of
-//! decreasing probability, until it is long enough.
+//! decreasing probability (of equals, the first passed over), until it is
+//! long enough.
 
 use std::collections::VecDeque;
 
@@ -84,11 +85,13 @@ fn build(
     // whatever they open in turn.
     let min = limits.min_len as usize;
     while c.len() < min && c.len() < cap {
-        let Some(best) = (0..skipped.len()).max_by(|&a, &b| skipped[a].0.total_cmp(&skipped[b].0))
+        // The most likely; of equals, the first passed over (the shallowest).
+        let Some(best) = (0..skipped.len())
+            .max_by(|&a, &b| skipped[a].0.total_cmp(&skipped[b].0).then(b.cmp(&a)))
         else {
             break;
         };
-        let (_, pos, slot, depth) = skipped.swap_remove(best);
+        let (_, pos, slot, depth) = skipped.remove(best);
         let node = c.gene(graph, pos).node();
         let to = graph.edge(node, slot).to;
         let child = c.push_gene_with(graph, to, pos, slot, &mut *fill);
