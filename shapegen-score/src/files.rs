@@ -34,13 +34,7 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), ScoreError> {
 
 /// Encodes `img` as PNG and writes it to `path` atomically.
 pub fn write_png(path: &Path, img: &image::RgbImage) -> Result<(), ScoreError> {
-    let mut bytes = Vec::new();
-    img.write_to(&mut io::Cursor::new(&mut bytes), image::ImageFormat::Png)
-        .map_err(|e| ScoreError::Image {
-            path: path.to_path_buf(),
-            reason: e.to_string(),
-        })?;
-    write_atomically(path, &bytes)
+    write_atomically(path, &encode(path, img)?)
 }
 
 /// Encodes `img` (with its alpha channel) as PNG and writes it to `path` atomically.
@@ -50,6 +44,14 @@ pub fn write_png_rgba(path: &Path, img: &image::RgbaImage) -> Result<(), ScoreEr
 
 /// `img` encoded as PNG (`path` names it in errors).
 pub fn png_bytes(path: &Path, img: &image::RgbaImage) -> Result<Vec<u8>, ScoreError> {
+    encode(path, img)
+}
+
+/// Any 8-bit image encoded as PNG.
+fn encode<P>(path: &Path, img: &image::ImageBuffer<P, Vec<u8>>) -> Result<Vec<u8>, ScoreError>
+where
+    P: image::Pixel<Subpixel = u8> + image::PixelWithColorType,
+{
     let mut bytes = Vec::new();
     img.write_to(&mut io::Cursor::new(&mut bytes), image::ImageFormat::Png)
         .map_err(|e| ScoreError::Image {

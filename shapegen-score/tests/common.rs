@@ -4,9 +4,9 @@
 use std::ops::Range;
 use std::path::PathBuf;
 
-use glam::{Affine3A, Quat, Vec3};
+use glam::{Affine3A, DVec3, Quat, Vec3};
 use proptest::prelude::*;
-use shapegen_score::Mesh;
+use shapegen_score::{Camera, Mesh};
 
 /// A random placement: any rotation, a non-uniform scale with components in
 /// `scale`, and a translation in the box `[lo, hi]`.
@@ -114,4 +114,38 @@ pub fn mixed_orientation() -> Mesh {
         t.swap(1, 2);
     }
     m
+}
+
+/// Random cameras for exactness tests at 64×48: perspective orbits (a near
+/// plane of up to 3 clips models that come close) and orthographic views.
+pub fn camera() -> impl Strategy<Value = Camera> {
+    prop_oneof![
+        (-3.2f64..3.2, -1.2f64..1.2, 2.0f64..8.0, 0.05f64..3.0).prop_map(
+            |(phi, theta, r, near)| {
+                Camera::orbit(
+                    phi,
+                    theta,
+                    r,
+                    DVec3::ZERO,
+                    60f64.to_radians(),
+                    near,
+                    near + 6.0,
+                    (64, 48),
+                )
+                .unwrap()
+            }
+        ),
+        (-1.0f64..1.0, -1.0f64..1.0).prop_map(|(x, y)| {
+            Camera::orthographic(
+                DVec3::new(x, y, -6.0),
+                DVec3::Z,
+                DVec3::Y,
+                6.0,
+                0.1,
+                12.0,
+                (64, 48),
+            )
+            .unwrap()
+        }),
+    ]
 }

@@ -1,9 +1,9 @@
 //! Exactness of the silhouette rasterizer against per-pixel ray casting.
 
 use crate::common::{
-    mixed_orientation, open_box, open_star, placement, star_prism, tube, wavy_sheet,
+    camera, mixed_orientation, open_box, open_star, placement, star_prism, tube, wavy_sheet,
 };
-use glam::{Affine3A, DVec3, Vec3};
+use glam::{Affine3A, Vec3};
 use proptest::prelude::*;
 use shapegen_score::Camera;
 use shapegen_score::Mesh;
@@ -62,39 +62,6 @@ fn equals_ray_casting(
         &differ[..differ.len().min(5)]
     );
     Ok(())
-}
-
-fn camera() -> impl Strategy<Value = Camera> {
-    prop_oneof![
-        // Perspective orbits; a near plane of up to 3 clips models that come close.
-        (-3.2f64..3.2, -1.2f64..1.2, 2.0f64..8.0, 0.05f64..3.0).prop_map(
-            |(phi, theta, r, near)| {
-                Camera::orbit(
-                    phi,
-                    theta,
-                    r,
-                    DVec3::ZERO,
-                    60f64.to_radians(),
-                    near,
-                    near + 6.0,
-                    (64, 48),
-                )
-                .unwrap()
-            }
-        ),
-        (-1.0f64..1.0, -1.0f64..1.0).prop_map(|(x, y)| {
-            Camera::orthographic(
-                DVec3::new(x, y, -6.0),
-                DVec3::Z,
-                DVec3::Y,
-                6.0,
-                0.1,
-                12.0,
-                (64, 48),
-            )
-            .unwrap()
-        }),
-    ]
 }
 
 proptest! {

@@ -3,7 +3,7 @@
 
 use std::borrow::Cow;
 
-use crate::common::{open_box, open_star, placement, star_prism, wavy_sheet};
+use crate::common::{camera, open_box, open_star, placement, star_prism, wavy_sheet};
 use glam::{Affine3A, DVec3, Vec3};
 use proptest::prelude::*;
 use shapegen_core::express::Instance;
@@ -29,39 +29,6 @@ fn shape_meshes(meshes: &[Mesh]) -> ShapeMeshes {
         .map(|i| Cow::Owned(format!("shape{i}")))
         .collect();
     ShapeMeshes::new(names, meshes.to_vec()).unwrap()
-}
-
-fn camera() -> impl Strategy<Value = Camera> {
-    prop_oneof![
-        // Perspective orbits; a near plane of up to 3 clips models that come close.
-        (-3.2f64..3.2, -1.2f64..1.2, 2.0f64..8.0, 0.05f64..3.0).prop_map(
-            |(phi, theta, r, near)| {
-                Camera::orbit(
-                    phi,
-                    theta,
-                    r,
-                    DVec3::ZERO,
-                    60f64.to_radians(),
-                    near,
-                    near + 6.0,
-                    (64, 48),
-                )
-                .unwrap()
-            }
-        ),
-        (-1.0f64..1.0, -1.0f64..1.0).prop_map(|(x, y)| {
-            Camera::orthographic(
-                DVec3::new(x, y, -6.0),
-                DVec3::Z,
-                DVec3::Y,
-                6.0,
-                0.1,
-                12.0,
-                (64, 48),
-            )
-            .unwrap()
-        }),
-    ]
 }
 
 /// Möller–Trumbore: the ray parameter where `o + t d` hits `tri`.
@@ -155,6 +122,39 @@ fn depth_mismatches(cam: &Camera, g: &GBuffer, tris: &[[DVec3; 3]]) -> Vec<(usiz
     bad
 }
 
+/// The G-buffer of `instances` seen by `cam` covers exactly the
+/// rasterizer's pixels with the ray-cast depths.
+fn check_exact(cam: &Camera, meshes: &[Mesh], instances: &[Instance]) -> Result<(), TestCaseError> {
+    let prepared = RenderMeshes::new(&shape_meshes(meshes)).unwrap();
+    let mut renderer = Renderer::new();
+    let g = renderer.render(&prepared, instances, cam);
+    let expected = covered_by_rasterizer(cam, meshes, instances);
+    let differ = (0..expected.len())
+        .filter(|&i| g.covered(i) != expected[i])
+        .count();
+    prop_assert_eq!(
+        differ,
+        0,
+        "{} pixels differ from the rasterizer's coverage",
+        differ
+    );
+    let bad = depth_mismatches(cam, g, &world_triangles(meshes, instances));
+    prop_assert!(
+        bad.is_empty(),
+        "{} depths differ, e.g. {:?}",
+        bad.len(),
+        &bad[..bad.len().min(3)]
+    );
+    // Visible pixels per face add up to the covered pixels.
+    let visible: u64 = g.terminal_pixels().iter().sum();
+    prop_assert_eq!(visible as usize, g.covered_pixels());
+    for f in g.faces() {
+        prop_assert!(f.visible <= f.drawn);
+        prop_assert!((f.normal.length() - 1.0).abs() < 1e-5);
+    }
+    Ok(())
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 128, ..ProptestConfig::default() })]
 
@@ -162,23 +162,8 @@ proptest! {
     /// depth at each pixel centre is the nearest surface's by ray casting.
     #[test]
     fn gbuffer_coverage_and_depth_are_exact(cam in camera(), placements in proptest::collection::vec((placement(0.2..2.0, Vec3::splat(-2.0), Vec3::splat(2.0)), 0u16..7), 1..5)) {
-        let meshes = meshes();
-        let prepared = RenderMeshes::new(&shape_meshes(&meshes)).unwrap();
         let instances: Vec<Instance> = placements.iter().map(|&(transform, shape)| Instance::new(shape, transform)).collect();
-        let mut renderer = Renderer::new();
-        let g = renderer.render(&prepared, &instances, &cam);
-        let expected = covered_by_rasterizer(&cam, &meshes, &instances);
-        let differ = (0..expected.len()).filter(|&i| g.covered(i) != expected[i]).count();
-        prop_assert_eq!(differ, 0, "{} pixels differ from the rasterizer's coverage", differ);
-        let bad = depth_mismatches(&cam, g, &world_triangles(&meshes, &instances));
-        prop_assert!(bad.is_empty(), "{} depths differ, e.g. {:?}", bad.len(), &bad[..bad.len().min(3)]);
-        // Visible pixels per face add up to the covered pixels.
-        let visible: u64 = g.terminal_pixels().iter().sum();
-        prop_assert_eq!(visible as usize, g.covered_pixels());
-        for f in g.faces() {
-            prop_assert!(f.visible <= f.drawn);
-            prop_assert!((f.normal.length() - 1.0).abs() < 1e-5);
-        }
+        check_exact(&cam, &meshes(), &instances)?;
     }
 }
 
@@ -201,13 +186,7 @@ proptest! {
         } else {
             fit_camera(&sphere, dir, 0.8, (96, 80)).unwrap()
         };
-        let mut renderer = Renderer::new();
-        let g = renderer.render(&prepared, &instances, &cam);
-        let expected = covered_by_rasterizer(&cam, &meshes, &instances);
-        let differ = (0..expected.len()).filter(|&i| g.covered(i) != expected[i]).count();
-        prop_assert_eq!(differ, 0, "{} pixels differ from the rasterizer's coverage", differ);
-        let bad = depth_mismatches(&cam, g, &world_triangles(&meshes, &instances));
-        prop_assert!(bad.is_empty(), "{} depths differ, e.g. {:?}", bad.len(), &bad[..bad.len().min(3)]);
+        check_exact(&cam, &meshes, &instances)?;
     }
 }
 

@@ -170,6 +170,14 @@ impl SceneOutputs for VolumeScene {
     }
 }
 
+/// One picture per image target: `stem.png`, or `stem_0.png`, `stem_1.png`, ...
+fn per_target(stem: &str, targets: usize) -> Vec<String> {
+    match targets {
+        1 => vec![format!("{stem}.png")],
+        n => (0..n).map(|i| format!("{stem}_{i}.png")).collect(),
+    }
+}
+
 impl SceneOutputs for ImageTargets {
     fn write_pictures(
         &self,
@@ -177,12 +185,8 @@ impl SceneOutputs for ImageTargets {
         dir: &Path,
     ) -> Result<Vec<PathBuf>, ExperimentError> {
         let mut written = Vec::new();
-        for (i, target) in self.targets().iter().enumerate() {
-            let path = if self.targets().len() == 1 {
-                dir.join("overlay.png")
-            } else {
-                dir.join(format!("overlay_{i}.png"))
-            };
+        for (i, (target, name)) in self.targets().iter().zip(self.picture_files()).enumerate() {
+            let path = dir.join(name);
             target.write_overlay(&path, &scratch.covered(i))?;
             written.push(path);
         }
@@ -194,10 +198,7 @@ impl SceneOutputs for ImageTargets {
     }
 
     fn picture_files(&self) -> Vec<String> {
-        match self.targets().len() {
-            1 => vec!["overlay.png".into()],
-            n => (0..n).map(|i| format!("overlay_{i}.png")).collect(),
-        }
+        per_target("overlay", self.targets().len())
     }
 
     fn write_views(
@@ -220,10 +221,7 @@ impl SceneOutputs for ImageTargets {
     }
 
     fn view_files(&self) -> Vec<String> {
-        match self.targets().len() {
-            1 => vec!["view.png".into()],
-            n => (0..n).map(|i| format!("view_{i}.png")).collect(),
-        }
+        per_target("view", self.targets().len())
     }
 
     fn fingerprint(&self) -> u64 {

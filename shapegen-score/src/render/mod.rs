@@ -28,8 +28,8 @@ use shapegen_core::express::Instance;
 
 pub use fit::{BoundingSphere, fit_camera, fit_orthographic, frame_tightly};
 pub use gbuffer::{Face, GBuffer};
-pub(crate) use shade::luma;
 pub use shade::{Background, Light, Lights, Palette, Shading, Style};
+pub(crate) use shade::{face_colour, luma};
 
 use crate::camera::Camera;
 use crate::error::ScoreError;

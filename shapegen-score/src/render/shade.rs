@@ -189,6 +189,20 @@ impl Style {
     }
 }
 
+/// A face's terminal colour (grey for a type without one) and its
+/// intensity under `style`'s lighting.
+pub(crate) fn face_colour(
+    face: &super::Face,
+    style: &Style,
+    palette: &[[u8; 3]],
+) -> ([u8; 3], f32) {
+    let c = palette
+        .get(face.terminal as usize)
+        .copied()
+        .unwrap_or([128; 3]);
+    (c, style.intensity(face.normal))
+}
+
 /// Luminance (Rec. 709 weights) of an sRGB colour, in `[0, 1]`.
 #[must_use]
 pub(crate) fn luma(c: [u8; 3]) -> f32 {
@@ -208,11 +222,7 @@ pub(crate) fn picture(
         .faces()
         .iter()
         .map(|f| {
-            let c = palette
-                .get(f.terminal as usize)
-                .copied()
-                .unwrap_or([128; 3]);
-            let k = style.intensity(f.normal);
+            let (c, k) = face_colour(f, style, palette);
             c.map(|v| f32::from(v) * k)
         })
         .collect();

@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::render::{GBuffer, RenderMeshes, Style, luma};
+use crate::render::{GBuffer, RenderMeshes, Style, face_colour, luma};
 
 /// The view attributes of one render (thesis §3.3), each in `[0, 1]`.
 ///
@@ -85,11 +85,8 @@ impl ViewAttributes {
             .faces()
             .iter()
             .map(|f| {
-                let c = palette
-                    .get(f.terminal as usize)
-                    .copied()
-                    .unwrap_or([128; 3]);
-                f64::from(luma(c) * style.intensity(f.normal))
+                let (c, k) = face_colour(f, style, &palette);
+                f64::from(luma(c) * k)
             })
             .collect();
 
