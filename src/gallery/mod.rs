@@ -180,9 +180,9 @@ impl GalleryOptions {
                 self.clusters
             ));
         }
-        if !(16..=2048).contains(&self.thumbnail) {
+        if !(16..=1024).contains(&self.thumbnail) {
             return bad(format!(
-                "thumbnails must be 16 to 2048 pixels across, got {}",
+                "thumbnails must be 16 to 1024 pixels across, got {}",
                 self.thumbnail
             ));
         }

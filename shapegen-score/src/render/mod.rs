@@ -205,7 +205,8 @@ impl Renderer {
     }
 
     /// A shaded picture of `instances` seen by `camera` (rendered at
-    /// `style.supersample`² samples a pixel and averaged).
+    /// `style.supersample`² samples a pixel and averaged; fewer for
+    /// pictures over 4096 / `supersample` pixels a side).
     pub fn picture(
         &mut self,
         meshes: &RenderMeshes,
@@ -213,7 +214,10 @@ impl Renderer {
         camera: &Camera,
         style: &Style,
     ) -> image::RgbaImage {
-        let s = style.supersample.clamp(1, 8);
+        // Supersampled renders stay within 4096 pixels a side (200 MB of
+        // G-buffer): larger pictures get fewer samples.
+        let side = camera.width.max(camera.height).max(1);
+        let s = style.supersample.clamp(1, 8).min((4096 / side).max(1));
         let big = |side: u32| (side * s).min(Camera::MAX_SIDE);
         let mut fine = *camera;
         fine.width = big(camera.width);

@@ -64,6 +64,9 @@ impl Default for ViewSampling {
 }
 
 impl ViewSampling {
+    /// The largest side of the renders attributes are computed on.
+    pub const MAX_SIZE: u32 = 2048;
+
     /// Every viewpoint, ring by ring (azimuths offset by half a step on
     /// every other ring, so the rings interleave).
     #[must_use]
@@ -98,10 +101,11 @@ impl ViewSampling {
         if !(self.fov_y > 0.0 && self.fov_y < std::f64::consts::PI) {
             return Some("the field of view must lie in (0°, 180°)".into());
         }
-        if self.size < 8 || self.size > Camera::MAX_SIDE {
+        if !(8..=Self::MAX_SIZE).contains(&self.size) {
             return Some(format!(
-                "view renders must be 8 to {} pixels across",
-                Camera::MAX_SIDE
+                "view renders must be 8 to {} pixels across, got {}",
+                Self::MAX_SIZE,
+                self.size
             ));
         }
         None
