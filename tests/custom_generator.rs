@@ -210,6 +210,30 @@ fn run_resume_compare_and_render_work_for_the_users_generator() {
         assert!(compared.join(m).join("best.obj").is_file());
     }
     assert!(compared.join("curves.png").is_file());
+    assert!(compared.join("best_by_method.png").is_file());
+    // A gallery of the user's generator, with its own meshes (pot, ball).
+    let gallery = dir.join("gallery");
+    run(&[
+        "gallery",
+        &s(&experiment_file()),
+        "--samples",
+        "12",
+        "--clusters",
+        "4",
+        "--thumbnail",
+        "40",
+        "-q",
+        "--out",
+        &s(&gallery),
+    ]);
+    let doc = json(&gallery.join("gallery.json"));
+    assert_eq!(doc["models"].as_array().unwrap().len(), 13);
+    // The centre's OBJ holds the user's pot mesh (the gallery renders what is scored).
+    let shapes = faces_by_shape(&gallery.join("models/00.obj"));
+    assert!(
+        shapes.iter().any(|(name, _)| name.contains("pot")),
+        "{shapes:?}"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
 
