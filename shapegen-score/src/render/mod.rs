@@ -389,9 +389,12 @@ impl Plane {
         (self.a + self.c * y, self.b)
     }
 
-    /// A key clamped to the depth range (a NaN becomes the near limit).
+    /// A key clamped to the depth range, with plain comparisons (the
+    /// coefficients are finite, so a key is never NaN; `f64::max` would
+    /// spend instructions on it).
     #[inline(always)]
     pub(crate) fn clamp(&self, k: f64) -> f64 {
-        k.max(self.lo).min(self.hi)
+        let k = if k < self.lo { self.lo } else { k };
+        if k > self.hi { self.hi } else { k }
     }
 }
