@@ -70,7 +70,7 @@ pub use shapes::ShapeMeshes;
 pub use solid::{Convex, Inside, MeshSolid, RowLine, RowTri, Solid, Winding, solid_angle};
 pub use views::{
     ATTRIBUTE_NAMES, AttributeWeights, BestView, ViewAttributes, ViewSampling, Viewpoint,
-    best_view, normalize_columns,
+    best_view, best_view_around, normalize_columns,
 };
 pub use volume::{
     OutsideCount, OverlapCount, VolumeCounts, VolumeScene, VolumeScore, VolumeScratch,

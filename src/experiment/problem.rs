@@ -314,14 +314,14 @@ where
         let mut scratch = self.fitness.scratch();
         self.fitness.counts(chromosome, &mut scratch);
         written.extend(self.fitness.scene().write_pictures(&scratch.0, dir)?);
+        let meshes = crate::gallery::render_meshes(&self.fitness, Terminals::Auto)?;
+        let instances = crate::gallery::Models::instances(&self.fitness, chromosome);
         let png = dir.join("best.png");
         write_png_rgba(
             &png,
-            &crate::gallery::best_view_picture(&self.fitness, chromosome, 600)?,
+            &crate::gallery::best_view_picture_of(&meshes, &instances, 600)?,
         )?;
         written.push(png);
-        let meshes = crate::gallery::render_meshes(&self.fitness, Terminals::Auto)?;
-        let instances = crate::gallery::Models::instances(&self.fitness, chromosome);
         written.extend(self.fitness.scene().write_views(&meshes, &instances, dir)?);
         Ok(written)
     }

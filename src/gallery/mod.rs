@@ -38,8 +38,8 @@ use crate::genome::Chromosome;
 use crate::graph::Graph;
 use crate::ops::OpError;
 use crate::score::{
-    AttributeWeights, BestView, ModelFitness, RenderMeshes, Renderer, Scene, ScoreError,
-    ShapeMeshes, Style, ViewAttributes, ViewSampling, best_view, frame_tightly,
+    AttributeWeights, BestView, BoundingSphere, ModelFitness, RenderMeshes, Renderer, Scene,
+    ScoreError, ShapeMeshes, Style, ViewAttributes, ViewSampling, best_view_around, frame_tightly,
 };
 
 /// What a gallery needs of a generator: its graph, its shapes' meshes, and
@@ -53,6 +53,13 @@ pub trait Models: Sync {
     fn instances(&self, chromosome: &Chromosome) -> Vec<Instance>;
 }
 
+/// Every instance `generator` emits for `chromosome`.
+fn expressed<G: Generator>(generator: &G, chromosome: &Chromosome) -> Vec<Instance> {
+    let mut model = Instances::default();
+    generator.express(chromosome, &mut model);
+    model.0
+}
+
 impl<G: Generator, S: Scene> Models for ModelFitness<G, S> {
     fn graph(&self) -> &Graph {
         self.generator().graph()
@@ -61,9 +68,7 @@ impl<G: Generator, S: Scene> Models for ModelFitness<G, S> {
         ModelFitness::meshes(self)
     }
     fn instances(&self, chromosome: &Chromosome) -> Vec<Instance> {
-        let mut model = Instances::default();
-        self.generator().express(chromosome, &mut model);
-        model.0
+        expressed(self.generator(), chromosome)
     }
 }
 
@@ -76,9 +81,7 @@ impl<G: Generator> Models for (G, ShapeMeshes) {
         &self.1
     }
     fn instances(&self, chromosome: &Chromosome) -> Vec<Instance> {
-        let mut model = Instances::default();
-        self.0.express(chromosome, &mut model);
-        model.0
+        expressed(&self.0, chromosome)
     }
 }
 
@@ -306,15 +309,22 @@ impl Gallery {
         let meshes = render_meshes(models, options.terminals)?;
         let mut all = vec![centre];
         all.extend(others);
-        let mut instances: Vec<Vec<Instance>> =
-            all.par_iter().map(|c| models.instances(c)).collect();
+        // Each model's instances and bounding sphere, once.
+        let mut instances: Vec<(Vec<Instance>, Option<BoundingSphere>)> = all
+            .par_iter()
+            .map(|c| {
+                let inst = models.instances(c);
+                let sphere = meshes.bounding_sphere(&inst);
+                (inst, sphere)
+            })
+            .collect();
         let mut notes = Vec::new();
         let mut label = label.to_string();
-        if meshes.bounding_sphere(&instances[0]).is_none() {
+        if instances[0].1.is_none() {
             // An empty centre shows nothing: the first model that shows
             // something takes its place.
             let first = (1..all.len())
-                .find(|&i| meshes.bounding_sphere(&instances[i]).is_some())
+                .find(|&i| instances[i].1.is_some())
                 .ok_or(GalleryError::Empty(all.len()))?;
             notes.push(format!(
                 "the {label} emits no geometry, so model {first} is in the middle instead"
@@ -328,10 +338,12 @@ impl Gallery {
             supersample: 1,
             ..options.style.clone()
         };
-        let view = best_view(
+        let (centre, centre_sphere) = &instances[0];
+        let view = best_view_around(
             &mut renderer,
             &meshes,
-            &instances[0],
+            centre,
+            centre_sphere.as_ref().expect("the centre has geometry"),
             &options.sampling,
             &options.best_view_weights,
             &fast,
@@ -343,14 +355,14 @@ impl Gallery {
         let rendered: Vec<(ViewAttributes, image::RgbaImage)> = instances
             .par_iter()
             .enumerate()
-            .map_init(Renderer::new, |renderer, (i, inst)| {
-                let out = match meshes.bounding_sphere(inst) {
+            .map_init(Renderer::new, |renderer, (i, (inst, sphere))| {
+                let out = match sphere {
                     None => {
                         let t = if i == 0 { 3 } else { 1 } * options.thumbnail;
                         Ok((ViewAttributes::default(), empty_thumbnail(t)))
                     }
                     Some(sphere) => (|| {
-                        let camera = viewpoint.camera(&sphere, fov, (side, side))?;
+                        let camera = viewpoint.camera(sphere, fov, (side, side))?;
                         let g = renderer.render(&meshes, inst, &camera);
                         let attributes = ViewAttributes::of(g, &meshes, &fast);
                         let t = if i == 0 { 3 } else { 1 } * options.thumbnail;
@@ -407,7 +419,7 @@ impl Gallery {
                 attributes,
                 cluster: clustering.assignment[i],
                 thumbnail,
-                instances: instances[i].len(),
+                instances: instances[i].0.len(),
                 projection: projection[i],
             })
             .collect();
@@ -477,16 +489,25 @@ pub fn best_view_picture(
     size: u32,
 ) -> Result<image::RgbaImage, GalleryError> {
     let meshes = render_meshes(models, Terminals::Auto)?;
-    let instances = models.instances(chromosome);
-    let Some(sphere) = meshes.bounding_sphere(&instances) else {
+    best_view_picture_of(&meshes, &models.instances(chromosome), size)
+}
+
+/// [`best_view_picture`] of `instances` of `meshes` already prepared.
+pub fn best_view_picture_of(
+    meshes: &RenderMeshes,
+    instances: &[Instance],
+    size: u32,
+) -> Result<image::RgbaImage, GalleryError> {
+    let Some(sphere) = meshes.bounding_sphere(instances) else {
         return Ok(empty_thumbnail(size));
     };
     let sampling = ViewSampling::default();
     let mut renderer = Renderer::new();
-    let view = best_view(
+    let view = best_view_around(
         &mut renderer,
-        &meshes,
-        &instances,
+        meshes,
+        instances,
+        &sphere,
         &sampling,
         &AttributeWeights::BEST_VIEW,
         &Style::fast(),
@@ -494,9 +515,9 @@ pub fn best_view_picture(
     let camera = view
         .viewpoint
         .camera(&sphere, sampling.fov_y, (sampling.size, sampling.size))?;
-    let g = renderer.render(&meshes, &instances, &camera);
+    let g = renderer.render(meshes, instances, &camera);
     let mut camera = frame_tightly(&camera, g, 0.06);
     camera.width = size;
     camera.height = size;
-    Ok(renderer.picture(&meshes, &instances, &camera, &Style::default()))
+    Ok(renderer.picture(meshes, instances, &camera, &Style::default()))
 }

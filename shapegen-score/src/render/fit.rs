@@ -153,17 +153,9 @@ pub fn fit_orthographic(
 #[must_use]
 pub fn frame_tightly(camera: &Camera, gbuffer: &GBuffer, margin: f64) -> Camera {
     let (w, h) = (gbuffer.width() as usize, gbuffer.height() as usize);
-    let (mut x0, mut y0, mut x1, mut y1) = (usize::MAX, usize::MAX, 0, 0);
-    for i in (0..gbuffer.len()).filter(|&i| gbuffer.covered(i)) {
-        let (x, y) = (i % w, i / w);
-        x0 = x0.min(x);
-        x1 = x1.max(x);
-        y0 = y0.min(y);
-        y1 = y1.max(y);
-    }
-    if x0 > x1 || w == 0 || h == 0 {
+    let Some((x0, y0, x1, y1)) = gbuffer.covered_bounds() else {
         return *camera;
-    }
+    };
     let (wf, hf) = (w as f64, h as f64);
     // The box's centre in normalized device coordinates, and its extent.
     let cx = (x0 + x1 + 1) as f64 / 2.0;

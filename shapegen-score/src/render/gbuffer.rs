@@ -250,6 +250,25 @@ impl GBuffer {
         self.face.iter().map(|&f| f != NONE).collect()
     }
 
+    /// The covered pixels' bounding box `(x0, y0, x1, y1)`, inclusive;
+    /// `None` if nothing is covered.
+    #[must_use]
+    pub fn covered_bounds(&self) -> Option<(usize, usize, usize, usize)> {
+        let w = self.width as usize;
+        let (mut x0, mut y0, mut x1, mut y1) = (usize::MAX, usize::MAX, 0, 0);
+        for (y, row) in self.face.chunks_exact(w.max(1)).enumerate() {
+            let Some(first) = row.iter().position(|&f| f != NONE) else {
+                continue;
+            };
+            let last = row.iter().rposition(|&f| f != NONE).unwrap_or(first);
+            x0 = x0.min(first);
+            x1 = x1.max(last);
+            y0 = y0.min(y);
+            y1 = y1.max(y);
+        }
+        (x0 <= x1).then_some((x0, y0, x1, y1))
+    }
+
     /// Number of covered pixels.
     #[must_use]
     pub fn covered_pixels(&self) -> usize {

@@ -236,12 +236,22 @@ impl Renderer {
         let n = mesh.positions.len();
         self.view.clear();
         self.pixels.clear();
-        let mut finite = true;
+        // One pass: placed vertices, their pixels, and what the occlusion
+        // test below needs (whether all are in the depth range, their
+        // pixel bounds and nearest depth).
+        let (mut finite, mut all_in) = (true, true);
+        let (mut lo, mut hi) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
+        let mut zmin = f64::INFINITY;
         for p in &mesh.positions {
             let v = m.transform_point3(*p);
+            let px = proj.to_pixel(v);
             finite &= v.is_finite();
+            all_in &= in_range(&v);
+            lo = lo.min(px);
+            hi = hi.max(px);
+            zmin = zmin.min(v.z);
             self.view.push(v);
-            self.pixels.push(proj.to_pixel(v));
+            self.pixels.push(px);
         }
         if !finite || n == 0 {
             return;
@@ -251,14 +261,7 @@ impl Renderer {
         // pixel is already covered by something nearer than its nearest
         // vertex can add nothing (a pixel only takes a strictly nearer face).
         let mut bounds = None;
-        if self.view.iter().all(in_range) {
-            let (mut lo, mut hi) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
-            let mut zmin = f64::INFINITY;
-            for (p, v) in self.pixels.iter().zip(&self.view) {
-                lo = lo.min(*p);
-                hi = hi.max(*p);
-                zmin = zmin.min(v.z);
-            }
+        if all_in {
             let b = self.gbuffer.pixel_box(lo, hi);
             if self.gbuffer.hidden(b, key_of(zmin, perspective)) {
                 return;

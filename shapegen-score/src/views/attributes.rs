@@ -93,7 +93,6 @@ impl ViewAttributes {
         let (mut sum, mut sum2) = (0.0, 0.0);
         let (mut left, mut right) = (0u64, 0u64);
         let mut silhouette = 0u64;
-        let (mut x0, mut y0, mut x1, mut y1) = (usize::MAX, usize::MAX, 0, 0);
         let mut solid = vec![0.0f64; g.terminal_types()];
         for y in 0..h {
             for x in 0..w {
@@ -117,10 +116,6 @@ impl ViewAttributes {
                     || !g.covered(i - w)
                     || !g.covered(i + w);
                 silhouette += u64::from(edge);
-                x0 = x0.min(x);
-                x1 = x1.max(x);
-                y0 = y0.min(y);
-                y1 = y1.max(y);
                 solid[face.terminal as usize] += g.pixel_solid_angle(i);
             }
         }
@@ -133,6 +128,7 @@ impl ViewAttributes {
             left as f64 / (left + right) as f64
         };
         let log_l = |x: f64| if l > 1.0 { x.ln() / l.ln() } else { 0.0 };
+        let (x0, y0, x1, y1) = g.covered_bounds().expect("n > 0 pixels are covered");
         let aspect = log_l((y1 - y0 + 1) as f64 / (x1 - x0 + 1) as f64);
         let total: f64 = solid.iter().sum();
         let visible_types = solid.iter().filter(|&&t| t > 0.0).count();

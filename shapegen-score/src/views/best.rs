@@ -140,19 +140,35 @@ pub fn best_view(
     weights: &AttributeWeights,
     style: &Style,
 ) -> Result<BestView, ScoreError> {
+    let sphere = meshes
+        .bounding_sphere(instances)
+        .ok_or_else(|| ScoreError::Camera("the model has no finite geometry to look at".into()))?;
+    best_view_around(
+        renderer, meshes, instances, &sphere, sampling, weights, style,
+    )
+}
+
+/// [`best_view`] with the model's bounding sphere already known (the
+/// cameras are fitted to `sphere`), for callers that need the sphere too.
+pub fn best_view_around(
+    renderer: &mut Renderer,
+    meshes: &RenderMeshes,
+    instances: &[Instance],
+    sphere: &BoundingSphere,
+    sampling: &ViewSampling,
+    weights: &AttributeWeights,
+    style: &Style,
+) -> Result<BestView, ScoreError> {
     if let Some(p) = sampling.problem() {
         return Err(ScoreError::Camera(p));
     }
     if let Some(p) = weights.problem() {
         return Err(ScoreError::Camera(p.into()));
     }
-    let sphere = meshes
-        .bounding_sphere(instances)
-        .ok_or_else(|| ScoreError::Camera("the model has no finite geometry to look at".into()))?;
     let viewpoints = sampling.viewpoints();
     let mut attributes = Vec::with_capacity(viewpoints.len());
     for v in &viewpoints {
-        let camera = v.camera(&sphere, sampling.fov_y, (sampling.size, sampling.size))?;
+        let camera = v.camera(sphere, sampling.fov_y, (sampling.size, sampling.size))?;
         let g = renderer.render(meshes, instances, &camera);
         attributes.push(ViewAttributes::of(g, meshes, style));
     }

@@ -12,4 +12,4 @@ mod attributes;
 mod best;
 
 pub use attributes::{ATTRIBUTE_NAMES, AttributeWeights, ViewAttributes, normalize_columns};
-pub use best::{BestView, ViewSampling, Viewpoint, best_view};
+pub use best::{BestView, ViewSampling, Viewpoint, best_view, best_view_around};
