@@ -3,9 +3,8 @@
 use std::time::Instant;
 
 use super::args::GalleryArgs;
-use super::{Cli, CliError, guard, thread_pool};
+use super::{Cli, CliError, guard, read_chromosome, thread_pool};
 use crate::gallery::{GALLERY_FILES, Gallery, GalleryOptions};
-use crate::genome::ChromosomeData;
 
 /// Runs `shapegen gallery`.
 pub(super) fn gallery(cli: &Cli, args: &GalleryArgs) -> Result<(), CliError> {
@@ -15,15 +14,7 @@ pub(super) fn gallery(cli: &Cli, args: &GalleryArgs) -> Result<(), CliError> {
     )?;
     let default_model = match &args.default_model {
         None => None,
-        Some(path) => {
-            crate::experiment::check_regular_file(path).map_err(CliError::msg)?;
-            let text = std::fs::read_to_string(path)
-                .map_err(|e| CliError::msg(format!("cannot read {}: {e}", path.display())))?;
-            let data: ChromosomeData = serde_json::from_str(&text).map_err(|e| {
-                CliError::msg(format!("{}: not a chromosome file: {e}", path.display()))
-            })?;
-            Some(experiment.chromosome(&data, path)?)
-        }
+        Some(path) => Some(read_chromosome(&experiment, path)?),
     };
     let options = GalleryOptions {
         samples: args.samples,

@@ -202,6 +202,20 @@ impl Cli {
     }
 }
 
+/// The chromosome saved in `path` (a `best.json`, a gallery's
+/// `models/NN.json`), of `experiment`'s generator.
+fn read_chromosome(
+    experiment: &Experiment,
+    path: &Path,
+) -> Result<crate::genome::Chromosome, CliError> {
+    crate::experiment::check_regular_file(path).map_err(CliError::msg)?;
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| CliError::msg(format!("cannot read {}: {e}", path.display())))?;
+    let data: crate::genome::ChromosomeData = serde_json::from_str(&text)
+        .map_err(|e| CliError::msg(format!("{}: not a chromosome file: {e}", path.display())))?;
+    Ok(experiment.chromosome(&data, path)?)
+}
+
 /// A `--seconds` value as a duration (finite, > 0, at most a century).
 fn seconds(s: f64) -> Result<std::time::Duration, CliError> {
     crate::optimize::Budget::seconds(s).ok_or_else(|| {

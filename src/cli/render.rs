@@ -1,8 +1,7 @@
 //! `shapegen render`: re-express a saved chromosome.
 
 use super::args::RenderArgs;
-use super::{Cli, CliError, guard};
-use crate::genome::ChromosomeData;
+use super::{Cli, CliError, guard, read_chromosome};
 use crate::output::mean_iou;
 
 /// Runs `shapegen render`.
@@ -19,11 +18,7 @@ pub(super) fn render(cli: &Cli, args: &RenderArgs) -> Result<(), CliError> {
     let mut inputs = experiment.inputs().to_vec();
     inputs.push(path.clone());
     guard::refuse_overwriting_inputs(&outputs, &inputs)?;
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| CliError::msg(format!("cannot read {}: {e}", path.display())))?;
-    let data: ChromosomeData = serde_json::from_str(&text)
-        .map_err(|e| CliError::msg(format!("{}: not a chromosome file: {e}", path.display())))?;
-    let chromosome = experiment.chromosome(&data, path)?;
+    let chromosome = read_chromosome(&experiment, path)?;
     let written = experiment.write_model(&chromosome, &args.out)?;
     println!(
         "fitness {:.4}, IoU {:.3} ({} genes) on `{}`; wrote {}",
