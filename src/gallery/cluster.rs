@@ -70,29 +70,40 @@ pub fn kmeans_pp(
             .unwrap_or(0)
     };
     let mut assignment: Vec<usize> = points.iter().map(|p| closest(p, &centers)).collect();
+    let mut converged = false;
     for _ in 0..100 {
-        // New centres: the means of their members (an empty cluster keeps its centre).
-        let mut sums = vec![([0.0; 8], 0usize); centers.len()];
-        for (p, &c) in points.iter().zip(&assignment) {
-            for k in 0..8 {
-                sums[c].0[k] += p[k];
-            }
-            sums[c].1 += 1;
-        }
-        for (c, (s, n)) in centers.iter_mut().zip(&sums) {
-            if *n > 0 {
-                *c = s.map(|v| v / *n as f64);
-            }
-        }
+        update_means(points, &assignment, &mut centers);
         let next: Vec<usize> = points.iter().map(|p| closest(p, &centers)).collect();
-        if next == assignment {
+        converged = next == assignment;
+        assignment = next;
+        if converged {
             break;
         }
-        assignment = next;
+    }
+    if !converged {
+        // The centres must be the means of the assignment returned.
+        update_means(points, &assignment, &mut centers);
     }
     Clustering {
         assignment,
         centers,
+    }
+}
+
+/// Each centre becomes the mean of the points assigned to it (an empty
+/// cluster keeps its centre).
+fn update_means(points: &[[f64; 8]], assignment: &[usize], centers: &mut [[f64; 8]]) {
+    let mut sums = vec![([0.0; 8], 0usize); centers.len()];
+    for (p, &c) in points.iter().zip(assignment) {
+        for k in 0..8 {
+            sums[c].0[k] += p[k];
+        }
+        sums[c].1 += 1;
+    }
+    for (c, (s, n)) in centers.iter_mut().zip(&sums) {
+        if *n > 0 {
+            *c = s.map(|v| v / *n as f64);
+        }
     }
 }
 
