@@ -10,7 +10,7 @@ use base64::Engine as _;
 use serde::Serialize;
 
 use super::{Gallery, GalleryError, Models};
-use crate::score::{ATTRIBUTE_NAMES, png_bytes, write_atomically, write_obj, write_png_rgba};
+use crate::score::{ATTRIBUTE_NAMES, png_bytes, write_atomically, write_obj};
 
 /// The files [`Gallery::write`] writes (besides `models/`).
 pub const GALLERY_FILES: [&str; 3] = ["gallery.png", "index.html", "gallery.json"];
@@ -118,11 +118,16 @@ impl Gallery {
             );
             written.extend([obj, json]);
         }
+        // The gallery picture is composed and encoded once, for its file and the page.
         let png = dir.join("gallery.png");
-        write_png_rgba(&png, &self.picture())?;
+        let picture = png_bytes(&png, &self.picture())?;
+        write_atomically(&png, &picture)?;
         written.push(png);
         let html = dir.join("index.html");
-        write_atomically(&html, self.html(title, &shown, &files)?.as_bytes())?;
+        write_atomically(
+            &html,
+            self.html(title, &shown, &files, &picture)?.as_bytes(),
+        )?;
         written.push(html);
         let json = dir.join("gallery.json");
         let v = &self.best_view;
@@ -164,13 +169,16 @@ impl Gallery {
         title: &str,
         shown: &[usize],
         files: &[(Option<String>, Option<String>)],
+        gallery_png: &[u8],
     ) -> Result<String, GalleryError> {
-        let data_url = |img: &image::RgbaImage| -> Result<String, GalleryError> {
-            let bytes = png_bytes(Path::new("thumbnail.png"), img)?;
-            Ok(format!(
+        let encoded = |bytes: &[u8]| {
+            format!(
                 "data:image/png;base64,{}",
                 base64::engine::general_purpose::STANDARD.encode(bytes)
-            ))
+            )
+        };
+        let data_url = |img: &image::RgbaImage| -> Result<String, GalleryError> {
+            Ok(encoded(&png_bytes(Path::new("thumbnail.png"), img)?))
         };
         let esc = |s: &str| {
             s.replace('&', "&amp;")
@@ -201,7 +209,7 @@ impl Gallery {
             centre = esc(&self.centre),
             az = v.azimuth.to_degrees(),
             el = v.elevation.to_degrees(),
-            g = data_url(&self.picture())?,
+            g = encoded(gallery_png),
         );
         for (n, &m) in shown.iter().enumerate() {
             let model = &self.models[m];
