@@ -8,6 +8,7 @@
 
 mod chromosome;
 mod data;
+mod relabel;
 mod validate;
 pub(crate) mod word;
 

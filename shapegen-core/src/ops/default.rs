@@ -111,3 +111,39 @@ fn build(
     }
     Ok(c)
 }
+
+/// The log-density of `c` under [`uncontrolled`] generation: for every gene,
+/// the log-density of its parameters under their priors, and for every slot
+/// that the gene's depth lets grow, `ln p` if it is expressed and `ln(1 − p)`
+/// if not. This is the grammar's *default pdf* of Lienhard's thesis (§4.5:
+/// the product of the probabilities of every choice made); the length limits'
+/// truncation (`L_min`, `L_max`) is not part of it. `-inf` for a tree that
+/// uncontrolled generation cannot make (a slot of `p = 0` expressed, one of
+/// `p = 1` missing, a parameter outside its support).
+#[must_use]
+pub fn uncontrolled_log_density(graph: &Graph, c: &Chromosome) -> f64 {
+    let limits = graph.limits();
+    let mut depth_of = vec![0u32; c.len()];
+    let mut total = 0.0;
+    for (i, g) in c.genes(graph).enumerate() {
+        let depth = match g.parent() {
+            Some(p) => depth_of[c.positions().partition_point(|&x| x < p)] + 1,
+            None => 0,
+        };
+        depth_of[i] = depth;
+        let spec = graph.node(g.node());
+        for (k, p) in spec.params.iter().enumerate() {
+            total += p.dist.log_density(g.param(k));
+        }
+        if limits.allows_depth(depth + 1) {
+            for (slot, s) in spec.slots.iter().enumerate() {
+                total += if g.child(slot).is_some() {
+                    s.p.ln()
+                } else {
+                    (1.0 - s.p).ln()
+                };
+            }
+        }
+    }
+    total
+}

@@ -20,7 +20,7 @@ pub use alter::{alter, alter_at};
 pub use crossover::{CrossoverConfig, EdgeMatch, crossover, crossover_at, crossover_into};
 pub(crate) use cut::cut_unchecked;
 pub use cut::{Cut, cut, cut_at};
-pub use default::{UNBOUNDED_CAP, default_model, uncontrolled};
+pub use default::{UNBOUNDED_CAP, default_model, uncontrolled, uncontrolled_log_density};
 pub(crate) use grow::grow_unchecked;
 pub use grow::{Grower, Grown, grow, grow_at};
 pub use init::{InitLength, random_individual, random_individual_with};
