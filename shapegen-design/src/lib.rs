@@ -48,6 +48,9 @@ pub mod split;
 
 pub use features::{FeatureKey, FeatureOptions, FeatureSpace};
 pub use gp::{Gp, GpOptions};
+pub use preference::{Factor, FactorOptions, Preference};
+pub use sampler::{LearnedPdf, LearnedSampler, RejectionSampler, StructureOptions, StructureReport, parameter_learning, structure_learning};
+pub use split::SplitGraph;
 
 
 

@@ -13,7 +13,8 @@ use crate::graph::{Graph, NodeId};
 
 impl Chromosome {
     /// This derivation tree with every gene's node id `n` replaced by
-    /// `map(n)`, validated against `to` (every invariant of
+    /// `map(n)` (called once per gene, in buffer order: parents before
+    /// children), validated against `to` (every invariant of
     /// [`validate`](Self::validate), so a map between graphs whose nodes do
     /// not share parameters, slots and targets is an error, never a broken
     /// chromosome).
