@@ -109,6 +109,7 @@ pub use shapegen_score as score;
 #[cfg(feature = "cli")]
 pub mod cli;
 pub mod demo;
+pub mod design;
 pub mod experiment;
 pub mod gallery;
 pub mod output;

@@ -42,7 +42,13 @@ pub fn jensen_shannon(p: &[f64], q: &[f64]) -> Option<f64> {
 pub fn weights_from_logs(logs: &[f64]) -> Vec<f64> {
     let max = logs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     logs.iter()
-        .map(|&l| if max.is_finite() { (l - max).exp() } else { 0.0 })
+        .map(|&l| {
+            if max.is_finite() {
+                (l - max).exp()
+            } else {
+                0.0
+            }
+        })
         .collect()
 }
 

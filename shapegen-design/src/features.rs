@@ -7,15 +7,22 @@
 //!   many ancestors are of the same node), levels beyond
 //!   [`FeatureOptions::recursion_levels`] merged into the last; scaled to
 //!   `[0, 1]` by the parameter's support (0 where no such gene exists).
-//! - **Counts**: the number of genes of each node, and of each *label*
-//!   (a node together with the values of its choice parameters: in a
-//!   grammar, which rule was applied) of nodes that have choices.
-//! - **Paths**: the number of occurrences of each path of (label, slot) edges
-//!   from a gene down to a descendant, of *effective length* 1..=k: an edge
-//!   counts toward the length only if it carries a stochastic choice (its slot
-//!   has `0 < p < 1`, or the child's node has a choice with more than one
-//!   possible option). A path begins and ends on such an edge; the ones that
-//!   do not would only repeat a shorter path's count.
+//! - **Counts**: the number of genes of each node, and the number of genes
+//!   of each node that took each option of each of its choices (in a
+//!   grammar: how often each rule was applied).
+//! - **Paths**: the number of occurrences of each path down the derivation
+//!   tree, of *effective length* 1..=k. A path is a chain of genes linked by
+//!   slots, where each gene is either bare (its node) or annotated with the
+//!   option of one of its choices. Its effective length counts the
+//!   stochastic steps: each annotation (a choice with more than one
+//!   possible option) and each slot with `0 < p < 1`; slots of `p = 1` cost
+//!   nothing (the thesis's non-informative rules), though they still tell
+//!   where a path starts (`Stack.bottom>…` against `Stack.top>…`). A path
+//!   ends on a stochastic step; one ending in a free step would only repeat
+//!   the count of the path before it.
+//!   So with `k = 1`, "the bottom mass is brown" and "a branch grows on the
+//!   trunk's first slot" are features; with `k = 2`, "the bottom mass is a
+//!   brown box".
 //!
 //! The path vocabulary is that of the models a [`FeatureSpace`] is fitted on
 //! (paths never seen there are not features). Every feature is divided by its
@@ -66,50 +73,42 @@ pub enum FeatureKey {
         /// The node.
         node: NodeId,
     },
-    /// Number of genes with this label (node, then its choice values).
-    Label(Vec<u32>),
-    /// Number of occurrences of a path: labels separated by slot indices,
-    /// `[label₀…, slot₀, label₁…, slot₁, …, labelₖ…]`.
+    /// Number of genes of a node whose choice parameter `param` took `value`.
+    Choice {
+        /// The node.
+        node: NodeId,
+        /// The choice parameter's index in the node.
+        param: u16,
+        /// The option.
+        value: u32,
+    },
+    /// Number of occurrences of a path: genes (each `[node, param, value]`,
+    /// `param = u32::MAX` for a bare gene) separated by slot indices,
+    /// `[gene₀ (3), slot₀, gene₁ (3), slot₁, …, geneₖ (3)]`.
     Path(Vec<u32>),
 }
 
 impl FeatureKey {
     /// The nodes this feature is about (for choosing which nodes to split).
     #[must_use]
-    pub fn nodes(&self, graph: &Graph) -> Vec<NodeId> {
+    pub fn nodes(&self) -> Vec<NodeId> {
         match self {
             Self::Param { node, .. } | Self::Count { node } => vec![*node],
-            Self::Label(l) => vec![l[0] as NodeId],
-            Self::Path(p) => {
-                let mut nodes = Vec::new();
-                let mut i = 0;
-                while i < p.len() {
-                    let node = p[i] as NodeId;
-                    nodes.push(node);
-                    i += 1 + choice_params(graph, node).len() + 1;
-                }
-                nodes
-            }
+            Self::Choice { node, .. } => vec![*node],
+            Self::Path(p) => p.chunks(4).map(|c| c[0] as NodeId).collect(),
         }
     }
 
-    /// A readable name, e.g. `Mass.h[0]`, `#Mass`, `Root.bottom>Mass(shape=1,colour=2)`.
+    /// A readable name, e.g. `Mass.h[0]`, `#Mass`, `#Mass(colour=0)`,
+    /// `Stack.bottom>Mass(colour=0)`.
     #[must_use]
     pub fn describe(&self, graph: &Graph) -> String {
-        let label = |l: &[u32]| -> (String, usize) {
-            let node = l[0] as NodeId;
-            let choices = choice_params(graph, node);
-            let spec = graph.node(node);
-            let mut s = spec.name.to_string();
-            if !choices.is_empty() {
-                let parts: Vec<String> = choices
-                    .iter()
-                    .zip(&l[1..])
-                    .map(|(&k, v)| format!("{}={v}", spec.params[k].name))
-                    .collect();
-                s += &format!("({})", parts.join(","));
+        let gene = |node: u32, param: u32, value: u32| -> String {
+            let spec = graph.node(node as NodeId);
+            match spec.params.get(param as usize) {
+                Some(p) => format!("{}({}={value})", spec.name, p.name),
+                None => spec.name.to_string(),
             }
-            (s, 1 + choices.len())
         };
         match self {
             Self::Param {
@@ -121,24 +120,27 @@ impl FeatureKey {
                 let spec = graph.node(*node);
                 let name = &spec.params[*param as usize].name;
                 let comp = match spec.params[*param as usize].dist {
-                    ParamDist::Vec2(_) | ParamDist::Vec3(_) => format!(".{}", ["x", "y", "z"][*component as usize]),
+                    ParamDist::Vec2(_) | ParamDist::Vec3(_) => {
+                        format!(".{}", ["x", "y", "z"][*component as usize])
+                    }
                     _ => String::new(),
                 };
                 format!("{}.{name}{comp}[{level}]", spec.name)
             }
             Self::Count { node } => format!("#{}", graph.node(*node).name),
-            Self::Label(l) => format!("#{}", label(l).0),
+            Self::Choice { node, param, value } => {
+                format!("#{}", gene(u32::from(*node), u32::from(*param), *value))
+            }
             Self::Path(p) => {
                 let mut out = String::new();
-                let mut i = 0;
-                while i < p.len() {
-                    let (s, used) = label(&p[i..]);
-                    let node = p[i] as NodeId;
-                    i += used;
-                    out += &s;
-                    if i < p.len() {
-                        out += &format!(".{}>", graph.node(node).slots[p[i] as usize].name);
-                        i += 1;
+                for (i, c) in p.chunks(4).enumerate() {
+                    if i > 0 {
+                        out += ">";
+                    }
+                    out += &gene(c[0], c[1], c[2]);
+                    if let Some(&slot) = c.get(3) {
+                        out +=
+                            &format!(".{}", graph.node(c[0] as NodeId).slots[slot as usize].name);
                     }
                 }
                 out
@@ -147,24 +149,12 @@ impl FeatureKey {
     }
 }
 
-/// The indices of a node's choice parameters.
-pub(crate) fn choice_params(graph: &Graph, node: NodeId) -> Vec<usize> {
-    graph
-        .node(node)
-        .params
-        .iter()
-        .enumerate()
-        .filter(|(_, p)| matches!(p.dist, ParamDist::Choice(_)))
-        .map(|(i, _)| i)
-        .collect()
-}
-
-/// Whether a node has a choice with more than one possible option.
-fn has_stochastic_choice(graph: &Graph, node: NodeId) -> bool {
-    graph.node(node).params.iter().any(|p| match &p.dist {
+/// Whether parameter `param` of `node` is a choice with more than one possible option.
+fn stochastic_choice(graph: &Graph, node: NodeId, param: usize) -> bool {
+    match &graph.node(node).params[param].dist {
         ParamDist::Choice(w) => w.iter().filter(|&&x| x > 0.0).count() > 1,
         _ => false,
-    })
+    }
 }
 
 /// A fitted feature map: the vocabulary and scales learned from a set of models.
@@ -187,7 +177,13 @@ struct StoredSpace {
 
 impl From<StoredSpace> for FeatureSpace {
     fn from(s: StoredSpace) -> Self {
-        let index = s.keys.iter().cloned().enumerate().map(|(i, k)| (k, i)).collect();
+        let index = s
+            .keys
+            .iter()
+            .cloned()
+            .enumerate()
+            .map(|(i, k)| (k, i))
+            .collect();
         Self {
             options: s.options,
             keys: s.keys,
@@ -243,14 +239,18 @@ impl FeatureSpace {
         let mut seen: Vec<FeatureKey> = raw
             .iter()
             .flat_map(|r| r.keys())
-            .filter(|k| matches!(k, FeatureKey::Label(_) | FeatureKey::Path(_)))
+            .filter(|k| matches!(k, FeatureKey::Choice { .. } | FeatureKey::Path(_)))
             .cloned()
             .collect();
         seen.sort_by(|a, b| format!("{a:?}").cmp(&format!("{b:?}")));
         seen.dedup();
         keys.extend(seen);
-        let index: HashMap<FeatureKey, usize> =
-            keys.iter().cloned().enumerate().map(|(i, k)| (k, i)).collect();
+        let index: HashMap<FeatureKey, usize> = keys
+            .iter()
+            .cloned()
+            .enumerate()
+            .map(|(i, k)| (k, i))
+            .collect();
         let mut scale = vec![0.0f64; keys.len()];
         for r in &raw {
             for (k, v) in r {
@@ -259,11 +259,17 @@ impl FeatureSpace {
                 }
             }
         }
-        for s in &mut scale {
-            if *s <= 0.0 {
-                *s = 1.0;
-            }
-        }
+        // Features that are 0 on every model (a recursion level never
+        // reached, a node never derived) cannot tell models apart: dropped.
+        let kept: Vec<usize> = (0..keys.len()).filter(|&i| scale[i] > 0.0).collect();
+        let keys: Vec<FeatureKey> = kept.iter().map(|&i| keys[i].clone()).collect();
+        let scale: Vec<f64> = kept.iter().map(|&i| scale[i]).collect();
+        let index: HashMap<FeatureKey, usize> = keys
+            .iter()
+            .cloned()
+            .enumerate()
+            .map(|(i, k)| (k, i))
+            .collect();
         Self {
             options,
             keys,
@@ -330,35 +336,34 @@ fn unit(d: &Dist, x: f32) -> f64 {
 }
 
 /// The unscaled features of one model (only non-zero ones).
-fn raw_features(graph: &Graph, m: &Chromosome, options: FeatureOptions) -> HashMap<FeatureKey, f64> {
+fn raw_features(
+    graph: &Graph,
+    m: &Chromosome,
+    options: FeatureOptions,
+) -> HashMap<FeatureKey, f64> {
     let mut out: HashMap<FeatureKey, f64> = HashMap::new();
     let n = m.len();
     let positions = m.positions();
     let at = |pos: u32| positions.partition_point(|&x| x < pos);
-    // Per gene: its label, parent index, recursion level.
-    let mut labels: Vec<Vec<u32>> = Vec::with_capacity(n);
+    let mut node_of: Vec<NodeId> = Vec::with_capacity(n);
     let mut parent: Vec<Option<usize>> = Vec::with_capacity(n);
     let mut slot: Vec<u32> = Vec::with_capacity(n);
     let mut level: Vec<u32> = Vec::with_capacity(n);
     let mut children: Vec<Vec<usize>> = vec![Vec::new(); n];
-    // Sums and counts of parameter components per (key).
+    // Per gene, its variants: bare, then one per stochastic choice ([node, param, value]).
+    let mut variants: Vec<Vec<[u32; 3]>> = Vec::with_capacity(n);
+    // Sums and counts of parameter components.
     let mut sums: HashMap<FeatureKey, (f64, f64)> = HashMap::new();
     let levels = options.recursion_levels.max(1);
     for (i, g) in m.genes(graph).enumerate() {
         let node = g.node();
         let spec = graph.node(node);
-        let mut label = vec![u32::from(node)];
-        for k in choice_params(graph, node) {
-            label.push(g.param_choice(k));
-        }
         let p = g.parent().map(at);
-        // Recursion level: the parent's level for this node, plus one if the
-        // parent is the same node; found by walking up to the nearest gene of
-        // this node.
+        // Recursion level: one more than the nearest ancestor of the same node's.
         let mut lv = 0;
         let mut up = p;
         while let Some(a) = up {
-            if labels[a][0] == u32::from(node) {
+            if node_of[a] == node {
                 lv = level[a] + 1;
                 break;
             }
@@ -368,9 +373,7 @@ fn raw_features(graph: &Graph, m: &Chromosome, options: FeatureOptions) -> HashM
             children[a].push(i);
         }
         *out.entry(FeatureKey::Count { node }).or_default() += 1.0;
-        if label.len() > 1 {
-            *out.entry(FeatureKey::Label(label.clone())).or_default() += 1.0;
-        }
+        let mut vs = vec![[u32::from(node), u32::MAX, 0]];
         let lvl = lv.min(levels - 1) as u8;
         for (k, ps) in spec.params.iter().enumerate() {
             let comps: Vec<(u8, f64)> = match &ps.dist {
@@ -385,9 +388,23 @@ fn raw_features(graph: &Graph, m: &Chromosome, options: FeatureOptions) -> HashM
                 }
                 ParamDist::Int(IntDist::Uniform { lo, hi }) if lo < hi => vec![(
                     0,
-                    (f64::from(g.param_int(k)) - f64::from(*lo)) / (f64::from(*hi) - f64::from(*lo)),
+                    (f64::from(g.param_int(k)) - f64::from(*lo))
+                        / (f64::from(*hi) - f64::from(*lo)),
                 )],
-                _ => vec![],
+                ParamDist::Choice(_) => {
+                    if stochastic_choice(graph, node, k) {
+                        let value = g.param_choice(k);
+                        *out.entry(FeatureKey::Choice {
+                            node,
+                            param: k as u16,
+                            value,
+                        })
+                        .or_default() += 1.0;
+                        vs.push([u32::from(node), k as u32, value]);
+                    }
+                    vec![]
+                }
+                ParamDist::Int(_) => vec![],
             };
             for (c, v) in comps {
                 let e = sums
@@ -402,58 +419,51 @@ fn raw_features(graph: &Graph, m: &Chromosome, options: FeatureOptions) -> HashM
                 e.1 += 1.0;
             }
         }
-        labels.push(label);
+        node_of.push(node);
         parent.push(p);
         slot.push(g.slot_in_parent());
         level.push(lv);
+        variants.push(vs);
     }
     for (k, (s, c)) in sums {
         out.insert(k, s / c);
     }
-    // Paths: from every gene, walk down; an edge is stochastic if its slot is
-    // optional or its child has a choice.
-    let stochastic = |child: usize| -> bool {
+    // Paths. A slot step is stochastic if 0 < p < 1; an annotated gene is one step.
+    let slot_cost = |child: usize| -> u32 {
         let a = parent[child].expect("a child has a parent");
-        let pn = labels[a][0] as NodeId;
-        let p = graph.node(pn).slots[slot[child] as usize].p;
-        (p > 0.0 && p < 1.0) || has_stochastic_choice(graph, labels[child][0] as NodeId)
+        let p = graph.node(node_of[a]).slots[slot[child] as usize].p;
+        u32::from(p > 0.0 && p < 1.0)
     };
+    let annotated = |v: &[u32; 3]| u32::from(v[1] != u32::MAX);
     let k = options.path_length.max(1);
-    // Raw length cap: deterministic chains cannot make paths unbounded.
+    // Raw length cap: chains of free steps cannot make paths unbounded.
     let max_raw = 4 * k as usize + 4;
+    // (gene, path so far, effective length, genes on the path).
     let mut stack: Vec<(usize, Vec<u32>, u32, usize)> = Vec::new();
     for start in 0..n {
-        for &c in &children[start] {
-            if !stochastic(c) {
-                continue;
-            }
-            let mut path = labels[start].clone();
-            path.push(slot[c]);
-            path.extend_from_slice(&labels[c]);
-            stack.push((c, path, 1, 1));
+        for v in &variants[start] {
+            stack.push((start, v.to_vec(), annotated(v), 1));
         }
-        while let Some((g, path, eff, raw)) = stack.pop() {
-            *out.entry(FeatureKey::Path(path.clone())).or_default() += 1.0;
-            if raw >= max_raw {
+        while let Some((g, path, eff, genes)) = stack.pop() {
+            if genes >= max_raw {
                 continue;
             }
-            // Extend through deterministic edges freely, and through
-            // stochastic ones while the effective length allows.
-            let mut frontier = vec![(g, Vec::<u32>::new(), 0usize)];
-            while let Some((h, tail, depth)) = frontier.pop() {
-                for &c in &children[h] {
-                    let mut t = tail.clone();
-                    t.push(slot[c]);
-                    t.extend_from_slice(&labels[c]);
-                    if stochastic(c) {
-                        if eff < k {
-                            let mut p = path.clone();
-                            p.extend_from_slice(&t);
-                            stack.push((c, p, eff + 1, raw + depth + 1));
-                        }
-                    } else if raw + depth + 1 < max_raw {
-                        frontier.push((c, t, depth + 1));
+            for &c in &children[g] {
+                let step = slot_cost(c);
+                for v in &variants[c] {
+                    let e = eff + step + annotated(v);
+                    if e > k {
+                        continue;
                     }
+                    let mut p = path.clone();
+                    p.push(slot[c]);
+                    p.extend_from_slice(v);
+                    // A path ending in a free step to a bare gene only
+                    // repeats the count of the path before that step.
+                    if annotated(v) == 1 || step == 1 {
+                        *out.entry(FeatureKey::Path(p.clone())).or_default() += 1.0;
+                    }
+                    stack.push((c, p, e, genes + 1));
                 }
             }
         }

@@ -98,7 +98,9 @@ impl From<StoredGp> for Gp {
             .or_else(|| factor(&s.x, &s.y, s.theta0, &s.theta, s.options.noise + 1e-3))
             .unwrap_or_else(|| {
                 let n = s.y.len().max(1);
-                let c = DMatrix::identity(n, n).cholesky().expect("identity is positive definite");
+                let c = DMatrix::identity(n, n)
+                    .cholesky()
+                    .expect("identity is positive definite");
                 (c, DVector::zeros(n))
             });
         Self {
@@ -174,7 +176,14 @@ impl Energy<'_> {
         let chol = c.cholesky()?;
         let y = DVector::from_column_slice(self.y);
         let alpha = chol.solve(&y);
-        let log_det: f64 = 2.0 * chol.l_dirty().diagonal().iter().take(n).map(|v| v.ln()).sum::<f64>();
+        let log_det: f64 = 2.0
+            * chol
+                .l_dirty()
+                .diagonal()
+                .iter()
+                .take(n)
+                .map(|v| v.ln())
+                .sum::<f64>();
         let lasso: f64 = theta.iter().sum::<f64>() * self.options.lasso;
         let energy = 0.5 * log_det
             + 0.5 * y.dot(&alpha)
@@ -308,7 +317,8 @@ impl Gp {
             _ => (phi, initial),
         };
         let (theta0, theta) = thetas(&phi);
-        let (chol, alpha) = factor(&x, &y, theta0, &theta, options.noise).ok_or(DesignError::NotPositiveDefinite)?;
+        let (chol, alpha) = factor(&x, &y, theta0, &theta, options.noise)
+            .ok_or(DesignError::NotPositiveDefinite)?;
         Ok(Self {
             x,
             y,
@@ -333,13 +343,19 @@ impl Gp {
             return Err(DesignError::NoScores);
         }
         let y: Vec<f64> = scores.iter().map(|s| s / 100.0).collect();
-        let (chol, alpha) = factor(&x, &y, theta0, &theta, options.noise).ok_or(DesignError::NotPositiveDefinite)?;
+        let (chol, alpha) = factor(&x, &y, theta0, &theta, options.noise)
+            .ok_or(DesignError::NotPositiveDefinite)?;
         let energy = Energy {
             x: &x,
             y: &y,
             options,
         }
-        .eval(&std::iter::once(theta0.ln()).chain(theta.iter().map(|t| t.ln())).collect::<Vec<_>>(), false)
+        .eval(
+            &std::iter::once(theta0.ln())
+                .chain(theta.iter().map(|t| t.ln()))
+                .collect::<Vec<_>>(),
+            false,
+        )
         .map_or(f64::NAN, |e| e.0);
         Ok(Self {
             x,
@@ -358,7 +374,9 @@ impl Gp {
     pub fn predict(&self, x: &[f64]) -> (f64, f64) {
         let k = DVector::from_iterator(
             self.x.len(),
-            self.x.iter().map(|xi| kernel(xi, x, self.theta0, &self.theta)),
+            self.x
+                .iter()
+                .map(|xi| kernel(xi, x, self.theta0, &self.theta)),
         );
         let mean = k.dot(&self.alpha);
         let v = self
@@ -455,7 +473,10 @@ mod tests {
                 vec![t, (3.0 * t).sin().abs(), ((i * 7) % 5) as f64 / 4.0]
             })
             .collect();
-        let y: Vec<f64> = x.iter().map(|v| (v[0] * 0.8 + 0.1 * v[2]).min(1.0)).collect();
+        let y: Vec<f64> = x
+            .iter()
+            .map(|v| (v[0] * 0.8 + 0.1 * v[2]).min(1.0))
+            .collect();
         let e = Energy {
             x: &x,
             y: &y,
@@ -470,7 +491,11 @@ mod tests {
             a[k] += h;
             b[k] -= h;
             let fd = (e.eval(&a, false).unwrap().0 - e.eval(&b, false).unwrap().0) / (2.0 * h);
-            assert!((fd - g[k]).abs() < 1e-5 * (1.0 + fd.abs()), "φ{k}: {fd} vs {}", g[k]);
+            assert!(
+                (fd - g[k]).abs() < 1e-5 * (1.0 + fd.abs()),
+                "φ{k}: {fd} vs {}",
+                g[k]
+            );
         }
     }
 }

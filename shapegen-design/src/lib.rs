@@ -20,6 +20,9 @@
 //! - [`sampler`]: sampling by the learned pdf: rejection sampling, parameter
 //!   learning and structure learning (a mixture of split graphs fitted by EM),
 //!   and the [`sampler::LearnedPdf`] file that other tools read.
+//! - [`evaluation`]: the thesis's evaluation protocol (design tasks played
+//!   by a program, JS divergences, learning curves against the KDE), and
+//!   [`toy`], the thesis's toy grammar and its tasks.
 //! - [`divergence`]: Jensen–Shannon divergence and the weighted kernel density
 //!   estimate of Talton et al. that the thesis compares with.
 //!
@@ -40,20 +43,22 @@
 //! model the generator could not derive.
 
 pub mod divergence;
+pub mod evaluation;
 pub mod features;
 pub mod gp;
 pub mod preference;
 pub mod sampler;
 pub mod split;
+pub mod toy;
 
 pub use features::{FeatureKey, FeatureOptions, FeatureSpace};
 pub use gp::{Gp, GpOptions};
 pub use preference::{Factor, FactorOptions, Preference};
-pub use sampler::{LearnedPdf, LearnedSampler, RejectionSampler, StructureOptions, StructureReport, parameter_learning, structure_learning};
+pub use sampler::{
+    LearnedPdf, LearnedSampler, RejectionSampler, StructureOptions, StructureReport,
+    parameter_learning, structure_learning,
+};
 pub use split::SplitGraph;
-
-
-
 
 /// What can go wrong while learning or sampling a pdf.
 #[derive(Debug, thiserror::Error)]
@@ -79,7 +84,9 @@ pub enum DesignError {
     #[error("the kernel matrix is not positive definite (raise the noise term)")]
     NotPositiveDefinite,
     /// Rejection sampling accepted nothing within its proposal budget.
-    #[error("rejection sampling accepted no model in {0} proposals: the preference is (almost) 0 everywhere the generator samples")]
+    #[error(
+        "rejection sampling accepted no model in {0} proposals: the preference is (almost) 0 everywhere the generator samples"
+    )]
     NoAcceptance(u64),
     /// A graph operation failed.
     #[error(transparent)]
@@ -91,7 +98,9 @@ pub enum DesignError {
     #[error(transparent)]
     Op(#[from] shapegen_core::ops::OpError),
     /// A learned pdf was made for another generator.
-    #[error("the learned pdf is for generator `{found}` (fingerprint {found_fp}), not `{expected}` (fingerprint {expected_fp})")]
+    #[error(
+        "the learned pdf is for generator `{found}` (fingerprint {found_fp}), not `{expected}` (fingerprint {expected_fp})"
+    )]
     ForeignGraph {
         /// The generator named in the file.
         found: String,

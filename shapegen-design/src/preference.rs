@@ -80,7 +80,11 @@ impl Factor {
                 && (0..x.len()).any(|i| {
                     (0..i).any(|j| {
                         (scores[i] - scores[j]).abs() > options.score_gap
-                            && x[i].iter().zip(&x[j]).map(|(a, b)| (a - b) * (a - b)).sum::<f64>()
+                            && x[i]
+                                .iter()
+                                .zip(&x[j])
+                                .map(|(a, b)| (a - b) * (a - b))
+                                .sum::<f64>()
                                 <= options.same_features
                     })
                 });
@@ -104,14 +108,17 @@ impl Factor {
     }
 
     /// The base nodes named by features whose ARD weight is at least
-    /// `threshold`: the nodes structure learning splits.
+    /// `threshold` times the largest weight: the nodes structure learning
+    /// splits. (Relative, because the lasso can trade small weights for a
+    /// large amplitude θ₀: the weights' ratios are what ARD decides.)
     #[must_use]
-    pub fn relevant_nodes(&self, graph: &Graph, threshold: f64) -> Vec<NodeId> {
+    pub fn relevant_nodes(&self, threshold: f64) -> Vec<NodeId> {
+        let max = self.gp.weights().iter().copied().fold(0.0, f64::max);
         let mut nodes: Vec<NodeId> = self
             .gp
-            .relevant(threshold)
+            .relevant(threshold * max)
             .into_iter()
-            .flat_map(|d| self.space.keys()[d].nodes(graph))
+            .flat_map(|d| self.space.keys()[d].nodes())
             .collect();
         nodes.sort_unstable();
         nodes.dedup();
@@ -131,8 +138,8 @@ impl Factor {
     }
 }
 
-/// The ARD weight at or above which a feature counts as relevant.
-pub const RELEVANCE: f64 = 0.01;
+/// The fraction of the largest ARD weight at or above which a feature counts as relevant.
+pub const RELEVANCE: f64 = 0.05;
 
 /// A preference: the product of factors.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
@@ -177,7 +184,12 @@ impl Preference {
         let mean: f64 = parts.iter().map(|p| p.0).product();
         let var: f64 = (0..parts.len())
             .map(|i| {
-                let others: f64 = parts.iter().enumerate().filter(|(j, _)| *j != i).map(|(_, p)| p.0).product();
+                let others: f64 = parts
+                    .iter()
+                    .enumerate()
+                    .filter(|(j, _)| *j != i)
+                    .map(|(_, p)| p.0)
+                    .product();
                 (others * parts[i].1).powi(2)
             })
             .sum();
@@ -186,8 +198,12 @@ impl Preference {
 
     /// The base nodes any factor finds relevant.
     #[must_use]
-    pub fn relevant_nodes(&self, graph: &Graph) -> Vec<NodeId> {
-        let mut nodes: Vec<NodeId> = self.factors.iter().flat_map(|f| f.relevant_nodes(graph, RELEVANCE)).collect();
+    pub fn relevant_nodes(&self) -> Vec<NodeId> {
+        let mut nodes: Vec<NodeId> = self
+            .factors
+            .iter()
+            .flat_map(|f| f.relevant_nodes(RELEVANCE))
+            .collect();
         nodes.sort_unstable();
         nodes.dedup();
         nodes

@@ -163,7 +163,9 @@ impl Events {
             }
             for (k, p) in spec.params.iter().enumerate() {
                 if let ParamDist::Choice(w) = &p.dist {
-                    let options: Vec<u32> = (0..w.len() as u32).filter(|&i| w[i as usize] > 0.0).collect();
+                    let options: Vec<u32> = (0..w.len() as u32)
+                        .filter(|&i| w[i as usize] > 0.0)
+                        .collect();
                     if options.len() > 1 {
                         let g = Group {
                             node: n,
@@ -375,7 +377,10 @@ impl LearnedPdf {
             });
         }
         if self.version != LEARNED_VERSION {
-            return Err(DesignError::Invalid(format!("format version {} (this build reads {LEARNED_VERSION})", self.version)));
+            return Err(DesignError::Invalid(format!(
+                "format version {} (this build reads {LEARNED_VERSION})",
+                self.version
+            )));
         }
         if self.components.is_empty() {
             return Err(DesignError::Invalid("no components".into()));
@@ -383,21 +388,33 @@ impl LearnedPdf {
         let origin: Vec<NodeId> = self
             .origin
             .iter()
-            .map(|n| base.node_id(n).ok_or_else(|| DesignError::Invalid(format!("unknown node `{n}`"))))
+            .map(|n| {
+                base.node_id(n)
+                    .ok_or_else(|| DesignError::Invalid(format!("unknown node `{n}`")))
+            })
             .collect::<Result<_, _>>()?;
         let mut components = Vec::with_capacity(self.components.len());
         let mut split = None;
         for c in &self.components {
             if !(c.weight.is_finite() && c.weight >= 0.0) {
-                return Err(DesignError::Invalid(format!("component weight {}", c.weight)));
+                return Err(DesignError::Invalid(format!(
+                    "component weight {}",
+                    c.weight
+                )));
             }
             // The component's supports must lie within the original's.
             let graph = Graph::new(c.graph.clone().with_limits(*base.limits()))?;
             for (i, &o) in origin.iter().enumerate() {
-                for (a, b) in graph.node(i as NodeId).params.iter().zip(base.node(o).params.iter()) {
+                for (a, b) in graph
+                    .node(i as NodeId)
+                    .params
+                    .iter()
+                    .zip(base.node(o).params.iter())
+                {
                     let ok = match (&a.dist, &b.dist) {
                         (ParamDist::Choice(x), ParamDist::Choice(y)) => {
-                            x.len() == y.len() && x.iter().zip(y.iter()).all(|(p, q)| *p == 0.0 || *q > 0.0)
+                            x.len() == y.len()
+                                && x.iter().zip(y.iter()).all(|(p, q)| *p == 0.0 || *q > 0.0)
                         }
                         (x, y) => x == y,
                     };
@@ -420,7 +437,9 @@ impl LearnedPdf {
         // Every component must share the first one's structure.
         for (_, g) in &components {
             if g.fingerprint() != split.graph().fingerprint() {
-                return Err(DesignError::Invalid("components differ in structure".into()));
+                return Err(DesignError::Invalid(
+                    "components differ in structure".into(),
+                ));
             }
         }
         let events = Events::new(split.graph());
@@ -442,7 +461,11 @@ impl LearnedPdf {
             }
             Graph::new(spec)?
         };
-        let log_default = events.probabilities(&base_spec).iter().map(|p| p.ln()).collect();
+        let log_default = events
+            .probabilities(&base_spec)
+            .iter()
+            .map(|p| p.ln())
+            .collect();
         let total: f64 = components.iter().map(|c| c.0).sum();
         if total <= 0.0 {
             return Err(DesignError::Invalid("the mixture weights sum to 0".into()));
@@ -471,7 +494,10 @@ impl LearnedSampler {
     /// One model of the original graph, drawn from the mixture.
     pub fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> Result<Chromosome, DesignError> {
         let u: f64 = rng.random();
-        let k = self.cumulative.partition_point(|&c| c <= u).min(self.components.len() - 1);
+        let k = self
+            .cumulative
+            .partition_point(|&c| c <= u)
+            .min(self.components.len() - 1);
         let m = uncontrolled(&self.components[k].1, rng)?;
         self.split.to_base(&self.base, &m)
     }
@@ -516,24 +542,48 @@ fn log_sum_exp(xs: &[f64]) -> f64 {
 /// Parameter learning: `base` with every optional slot's probability and
 /// every choice's weights set to their relative frequencies in `training`
 /// (models of `base`, e.g. drawn by a [`RejectionSampler`]).
-pub fn parameter_learning(base: &Graph, training: &[Chromosome]) -> Result<LearnedPdf, DesignError> {
+pub fn parameter_learning(
+    base: &Graph,
+    training: &[Chromosome],
+) -> Result<LearnedPdf, DesignError> {
     if training.is_empty() {
         return Err(DesignError::NoScores);
     }
     let split = SplitGraph::identity(base);
     let events = Events::new(split.graph());
-    let counts: Vec<Counts> = training.iter().map(|m| events.count(&split, base, m)).collect();
-    let table = events.frequencies(&counts, &vec![1.0; counts.len()], &events.probabilities(split.graph()));
-    Ok(learned(base, &split, "parameter", vec![(1.0, events.apply(split.graph().spec(), &table))]))
+    let counts: Vec<Counts> = training
+        .iter()
+        .map(|m| events.count(&split, base, m))
+        .collect();
+    let table = events.frequencies(
+        &counts,
+        &vec![1.0; counts.len()],
+        &events.probabilities(split.graph()),
+    );
+    Ok(learned(
+        base,
+        &split,
+        "parameter",
+        vec![(1.0, events.apply(split.graph().spec(), &table))],
+    ))
 }
 
-fn learned(base: &Graph, split: &SplitGraph, method: &str, components: Vec<(f64, GraphSpec)>) -> LearnedPdf {
+fn learned(
+    base: &Graph,
+    split: &SplitGraph,
+    method: &str,
+    components: Vec<(f64, GraphSpec)>,
+) -> LearnedPdf {
     LearnedPdf {
         version: LEARNED_VERSION,
         generator: base.name().to_string(),
         fingerprint: format!("{:016x}", base.fingerprint()),
         method: method.to_string(),
-        origin: split.origin().iter().map(|&o| base.node(o).name.to_string()).collect(),
+        origin: split
+            .origin()
+            .iter()
+            .map(|&o| base.node(o).name.to_string())
+            .collect(),
         components: components
             .into_iter()
             .map(|(weight, graph)| Component { weight, graph })
@@ -613,7 +663,10 @@ pub fn structure_learning(
         split = split.split(&ids)?;
     }
     let events = Events::new(split.graph());
-    let counts: Vec<Counts> = training.iter().map(|m| events.count(&split, base, m)).collect();
+    let counts: Vec<Counts> = training
+        .iter()
+        .map(|m| events.count(&split, base, m))
+        .collect();
     let n = training.len();
     let fallback = events.probabilities(split.graph());
     let overall = events.frequencies(&counts, &vec![1.0; n], &fallback);
@@ -634,11 +687,18 @@ pub fn structure_learning(
     let mut left = vec![true; n];
     let mut clusters: Vec<Vec<usize>> = Vec::new();
     loop {
-        let best = (0..n)
-            .filter(|&i| left[i])
-            .max_by_key(|&i| ((0..n).filter(|&j| left[j] && d[i * n + j] <= threshold).count(), std::cmp::Reverse(i)));
+        let best = (0..n).filter(|&i| left[i]).max_by_key(|&i| {
+            (
+                (0..n)
+                    .filter(|&j| left[j] && d[i * n + j] <= threshold)
+                    .count(),
+                std::cmp::Reverse(i),
+            )
+        });
         let Some(seed) = best else { break };
-        let members: Vec<usize> = (0..n).filter(|&j| left[j] && (j == seed || d[seed * n + j] <= threshold)).collect();
+        let members: Vec<usize> = (0..n)
+            .filter(|&j| left[j] && (j == seed || d[seed * n + j] <= threshold))
+            .collect();
         for &m in &members {
             left[m] = false;
         }
@@ -668,9 +728,15 @@ pub fn structure_learning(
         })
         .collect();
     let mut alpha: Vec<f64> = clusters.iter().map(|c| c.len() as f64 / n as f64).collect();
-    let mut tables: Vec<Vec<f64>> = resp.iter().map(|w| events.frequencies(&counts, w, &overall)).collect();
+    let mut tables: Vec<Vec<f64>> = resp
+        .iter()
+        .map(|w| events.frequencies(&counts, w, &overall))
+        .collect();
     let mut report = StructureReport {
-        split_nodes: wanted.iter().map(|&w| base.node(w).name.to_string()).collect(),
+        split_nodes: wanted
+            .iter()
+            .map(|&w| base.node(w).name.to_string())
+            .collect(),
         split_graph_nodes: split.graph().node_count(),
         clusters: found,
         log_likelihood: Vec::new(),
@@ -678,7 +744,10 @@ pub fn structure_learning(
     let mut previous = f64::NEG_INFINITY;
     for step in 0..=options.em_iterations {
         // E-step (and the log-likelihood of the current parameters).
-        let logs: Vec<Vec<f64>> = tables.iter().map(|t| t.iter().map(|p| p.ln()).collect()).collect();
+        let logs: Vec<Vec<f64>> = tables
+            .iter()
+            .map(|t| t.iter().map(|p| p.ln()).collect())
+            .collect();
         let mut ll = 0.0;
         for m in 0..n {
             let terms: Vec<f64> = (0..k)
@@ -687,7 +756,11 @@ pub fn structure_learning(
             let total = log_sum_exp(&terms);
             ll += total;
             for c in 0..k {
-                resp[c][m] = if total.is_finite() { (terms[c] - total).exp() } else { 1.0 / k as f64 };
+                resp[c][m] = if total.is_finite() {
+                    (terms[c] - total).exp()
+                } else {
+                    1.0 / k as f64
+                };
             }
         }
         report.log_likelihood.push(ll);

@@ -43,7 +43,11 @@ impl SplitGraph {
     /// learned pdf's component), checking that every node has its
     /// original's parameters and slots, and that every slot leads to a copy
     /// of the original's target.
-    pub fn from_parts(base: &Graph, graph: Graph, origin: Vec<NodeId>) -> Result<Self, DesignError> {
+    pub fn from_parts(
+        base: &Graph,
+        graph: Graph,
+        origin: Vec<NodeId>,
+    ) -> Result<Self, DesignError> {
         if origin.len() != graph.node_count() {
             return Err(DesignError::Mismatch {
                 what: "split nodes and their origins",
@@ -54,7 +58,10 @@ impl SplitGraph {
         for (i, &o) in origin.iter().enumerate() {
             let ours = graph.node(i as NodeId);
             let Some(theirs) = (usize::from(o) < base.node_count()).then(|| base.node(o)) else {
-                return Err(DesignError::Invalid(format!("node `{}` copies unknown node {o}", ours.name)));
+                return Err(DesignError::Invalid(format!(
+                    "node `{}` copies unknown node {o}",
+                    ours.name
+                )));
             };
             let same_params = ours.params.len() == theirs.params.len()
                 && ours
@@ -75,7 +82,9 @@ impl SplitGraph {
             }
         }
         if origin[usize::from(graph.start())] != base.start() {
-            return Err(DesignError::Invalid("the start node is not a copy of the base's start".into()));
+            return Err(DesignError::Invalid(
+                "the start node is not a copy of the base's start".into(),
+            ));
         }
         Ok(Self { graph, origin })
     }
@@ -123,7 +132,11 @@ impl SplitGraph {
             let base = g.node(n).name.to_string();
             match e {
                 None => base,
-                Some((p, j)) => format!("{base}<{}.{}", g.node(p).name, g.node(p).slots[j as usize].name),
+                Some((p, j)) => format!(
+                    "{base}<{}.{}",
+                    g.node(p).name,
+                    g.node(p).slots[j as usize].name
+                ),
             }
         };
         let names: Vec<String> = copies.iter().map(|&c| name_of(c)).collect();
@@ -167,7 +180,10 @@ impl SplitGraph {
             limits: *g.limits(),
         };
         let graph = Graph::new(spec)?;
-        let origin = copies.iter().map(|&(n, _)| self.origin[usize::from(n)]).collect();
+        let origin = copies
+            .iter()
+            .map(|&(n, _)| self.origin[usize::from(n)])
+            .collect();
         Ok(Self { graph, origin })
     }
 
@@ -201,6 +217,11 @@ impl SplitGraph {
     /// A model of this split graph as a model of the base graph, validated
     /// against it.
     pub fn to_base(&self, base: &Graph, model: &Chromosome) -> Result<Chromosome, DesignError> {
-        Ok(model.relabel(base, |n| self.origin.get(usize::from(n)).copied().unwrap_or(NodeId::MAX))?)
+        Ok(model.relabel(base, |n| {
+            self.origin
+                .get(usize::from(n))
+                .copied()
+                .unwrap_or(NodeId::MAX)
+        })?)
     }
 }
