@@ -30,7 +30,7 @@ use crate::DesignError;
 use crate::divergence::{WeightedKde, jensen_shannon, weights_from_logs};
 use crate::preference::{Factor, FactorOptions, Preference};
 use crate::sampler::{
-    RejectionSampler, StructureOptions, StructureReport, parameter_learning, structure_learning,
+    Learner, RejectionSampler, StructureOptions, StructureReport, learn_pdf, parameter_learning,
 };
 
 /// A known score function (0–100) for one factor of a task.
@@ -201,32 +201,14 @@ pub fn evaluate(task: &Task, options: &EvalOptions) -> Result<EvalReport, Design
     // Relevance and kernel from a GPR on scored default samples.
     let fit_models = draw(g, options.fit_models, options.seed, 2)?;
     let preference = fit_preference(task, &fit_models, options.factor)?;
-    let relevant = preference.relevant_nodes();
-    // Kernel distances between training models, from precomputed features.
-    let feats: Vec<Vec<Vec<f64>>> = preference
-        .factors
-        .iter()
-        .map(|f| {
-            training
-                .par_iter()
-                .map(|m| f.space.features(g, m))
-                .collect()
-        })
-        .collect();
-    let distance = |i: usize, j: usize| -> f64 {
-        preference
-            .factors
-            .iter()
-            .zip(&feats)
-            .map(|(f, x)| {
-                (2.0 * f.gp.amplitude() - 2.0 * f.gp.similarity(&x[i], &x[j]))
-                    .max(0.0)
-                    .sqrt()
-            })
-            .fold(0.0, f64::max)
-    };
-    let (pdf, structure) =
-        structure_learning(g, &training, &relevant, &distance, options.structure)?;
+    let (pdf, structure) = learn_pdf(
+        g,
+        &training,
+        &preference,
+        Learner::Structure,
+        options.structure,
+    )?;
+    let structure = structure.unwrap_or_default();
     let learned = pdf.sampler(g)?;
     let q: Vec<f64> = weights_from_logs(
         &eval

@@ -55,8 +55,8 @@ pub use features::{FeatureKey, FeatureOptions, FeatureSpace};
 pub use gp::{Gp, GpOptions};
 pub use preference::{Factor, FactorOptions, Preference};
 pub use sampler::{
-    LearnedPdf, LearnedSampler, RejectionSampler, StructureOptions, StructureReport,
-    parameter_learning, structure_learning,
+    LearnedPdf, LearnedSampler, Learner, RejectionSampler, StructureOptions, StructureReport,
+    learn_pdf, parameter_learning, structure_learning,
 };
 pub use split::SplitGraph;
 

@@ -346,6 +346,12 @@ pub struct LearnedPdf {
     pub origin: Vec<String>,
     /// The mixture.
     pub components: Vec<Component>,
+    /// The original graph with the relative frequencies of the training
+    /// models (parameter learning on the same models): the context-free
+    /// approximation of this pdf that optimizers grow with
+    /// ([`LearnedPdf::prior_graph`]).
+    #[serde(default)]
+    pub marginal: Option<GraphSpec>,
 }
 
 /// A [`LearnedPdf`] checked against its original graph, ready to sample.
@@ -411,14 +417,7 @@ impl LearnedPdf {
                     .iter()
                     .zip(base.node(o).params.iter())
                 {
-                    let ok = match (&a.dist, &b.dist) {
-                        (ParamDist::Choice(x), ParamDist::Choice(y)) => {
-                            x.len() == y.len()
-                                && x.iter().zip(y.iter()).all(|(p, q)| *p == 0.0 || *q > 0.0)
-                        }
-                        (x, y) => x == y,
-                    };
-                    if !ok {
+                    if !within_support(&a.dist, &b.dist) {
                         return Err(DesignError::Invalid(format!(
                             "parameter `{}` of `{}` leaves the original's support",
                             a.name,
@@ -490,6 +489,52 @@ impl LearnedPdf {
     }
 }
 
+impl LearnedPdf {
+    /// The graph an optimizer grows and alters with under this pdf:
+    /// `base` (with its limits) with the learned slot probabilities and
+    /// choice weights of [`LearnedPdf::marginal`]. It has `base`'s nodes, so
+    /// its chromosomes are `base`'s (same fingerprint) and every model it
+    /// makes is one `base` can derive.
+    pub fn prior_graph(&self, base: &Graph) -> Result<Graph, DesignError> {
+        self.sampler(base)?;
+        let marginal = self
+            .marginal
+            .as_ref()
+            .ok_or_else(|| DesignError::Invalid("no marginal graph (export it again)".into()))?;
+        let graph = Graph::new(marginal.clone().with_limits(*base.limits()))?;
+        if graph.fingerprint() != base.fingerprint() {
+            return Err(DesignError::Invalid(
+                "the marginal graph is not the generator's".into(),
+            ));
+        }
+        // Supports within the base's: the same check as the components'.
+        SplitGraph::from_parts(
+            base,
+            graph.clone(),
+            (0..base.node_count() as NodeId).collect(),
+        )?;
+        for n in 0..base.node_count() as NodeId {
+            for (a, b) in graph.node(n).params.iter().zip(base.node(n).params.iter()) {
+                if !within_support(&a.dist, &b.dist) {
+                    return Err(DesignError::Invalid(format!(
+                        "parameter `{}` leaves the original's support",
+                        a.name
+                    )));
+                }
+            }
+            for (a, b) in graph.node(n).slots.iter().zip(base.node(n).slots.iter()) {
+                if (b.p == 0.0 || b.p == 1.0) && a.p != b.p {
+                    return Err(DesignError::Invalid(format!(
+                        "slot `{}` of `{}` changed a certain probability",
+                        a.name, b.name
+                    )));
+                }
+            }
+        }
+        Ok(graph)
+    }
+}
+
 impl LearnedSampler {
     /// One model of the original graph, drawn from the mixture.
     pub fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> Result<Chromosome, DesignError> {
@@ -528,6 +573,18 @@ impl LearnedSampler {
     #[must_use]
     pub fn split_nodes(&self) -> usize {
         self.split.graph().node_count()
+    }
+}
+
+/// Whether a learned parameter distribution keeps to the original's support:
+/// a choice may reweight only options the original has; anything else must
+/// be unchanged.
+fn within_support(learned: &ParamDist, original: &ParamDist) -> bool {
+    match (learned, original) {
+        (ParamDist::Choice(x), ParamDist::Choice(y)) => {
+            x.len() == y.len() && x.iter().zip(y.iter()).all(|(p, q)| *p == 0.0 || *q > 0.0)
+        }
+        (x, y) => x == y,
     }
 }
 
@@ -588,6 +645,7 @@ fn learned(
             .into_iter()
             .map(|(weight, graph)| Component { weight, graph })
             .collect(),
+        marginal: None,
     }
 }
 
@@ -781,4 +839,71 @@ pub fn structure_learning(
         .map(|(t, &a)| (a, events.apply(split.graph().spec(), t)))
         .collect();
     Ok((learned(base, &split, "structure", components), report))
+}
+
+/// Which learner turns training models into a [`LearnedPdf`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Learner {
+    /// [`parameter_learning`].
+    Parameter,
+    /// [`structure_learning`] (the thesis's default).
+    Structure,
+}
+
+/// Fits a [`LearnedPdf`] to `training` (models drawn from the target, e.g.
+/// by a [`RejectionSampler`] with `preference`): parameter learning, or
+/// structure learning splitting the nodes `preference` finds relevant and
+/// clustering with its kernel. Also returns structure learning's report.
+pub fn learn_pdf(
+    base: &Graph,
+    training: &[Chromosome],
+    preference: &crate::Preference,
+    learner: Learner,
+    options: StructureOptions,
+) -> Result<(LearnedPdf, Option<StructureReport>), DesignError> {
+    use rayon::prelude::*;
+    let marginal = parameter_learning(base, training)?;
+    match learner {
+        Learner::Parameter => Ok((marginal, None)),
+        Learner::Structure => {
+            // Kernel distances from features computed once per factor.
+            let feats: Vec<Vec<Vec<f64>>> = preference
+                .factors
+                .iter()
+                .map(|f| {
+                    training
+                        .par_iter()
+                        .map(|m| f.space.features(base, m))
+                        .collect()
+                })
+                .collect();
+            let distance = |i: usize, j: usize| -> f64 {
+                preference
+                    .factors
+                    .iter()
+                    .zip(&feats)
+                    .map(|(f, x)| {
+                        (2.0 * f.gp.amplitude() - 2.0 * f.gp.similarity(&x[i], &x[j]))
+                            .max(0.0)
+                            .sqrt()
+                    })
+                    .fold(0.0, f64::max)
+            };
+            let (pdf, report) = structure_learning(
+                base,
+                training,
+                &preference.relevant_nodes(),
+                &distance,
+                options,
+            )?;
+            Ok((
+                LearnedPdf {
+                    marginal: marginal.marginal,
+                    ..pdf
+                },
+                Some(report),
+            ))
+        }
+    }
 }

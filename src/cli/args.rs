@@ -28,6 +28,100 @@ pub enum Command {
     Render(RenderArgs),
     /// A thumbnail gallery of what the experiment's generator can make: gallery.png, index.html, gallery.json.
     Gallery(GalleryArgs),
+    /// Design the generator's pdf from preference scores (Dang et al. 2015): sample, score, learn, export.
+    #[command(subcommand)]
+    Design(DesignCommand),
+}
+
+/// `shapegen design …`: the steps of a design session.
+#[derive(Debug, Subcommand)]
+pub enum DesignCommand {
+    /// Draws a batch of models to score: thumbnails, index.html and scores.json (fill in the scores) in --out.
+    Sample(DesignSampleArgs),
+    /// Reads the filled-in scores.json into the session and fits the preference.
+    Learn(DesignLearnArgs),
+    /// Fits a learned generator to the preference and writes it (learned.json) for `gallery --prior` and `run --prior`.
+    Export(DesignExportArgs),
+}
+
+/// The session file of `shapegen design`.
+#[derive(Debug, clap::Args)]
+pub struct SessionArgs {
+    /// The experiment whose generator is designed (its targets are not used).
+    #[command(flatten)]
+    pub experiment: ExperimentArgs,
+    /// The session file: every scored model and score (created by the first `sample`, rewritten atomically).
+    #[arg(long, default_value = "design/session.json")]
+    pub session: PathBuf,
+}
+
+/// `shapegen design sample`.
+#[derive(Debug, clap::Args)]
+pub struct DesignSampleArgs {
+    /// Experiment and session.
+    #[command(flatten)]
+    pub session: SessionArgs,
+    /// Models in the batch.
+    #[arg(long, default_value_t = 24)]
+    pub count: usize,
+    /// How they are chosen: default pdf, current pdf, complementary pdf, most uncertain, or already scored.
+    #[arg(long, value_enum, default_value = "default")]
+    pub mode: crate::design::session::Mode,
+    /// The factor the scores are for (created if new; default: the session's current one).
+    #[arg(long)]
+    pub factor: Option<String>,
+    /// Random seed of a new session; default: the experiment's.
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Side of a thumbnail in pixels.
+    #[arg(long, default_value_t = 200)]
+    pub thumbnail: u32,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Output directory of the batch.
+    #[arg(long, default_value = "design/batch")]
+    pub out: PathBuf,
+}
+
+/// `shapegen design learn`.
+#[derive(Debug, clap::Args)]
+pub struct DesignLearnArgs {
+    /// Experiment and session.
+    #[command(flatten)]
+    pub session: SessionArgs,
+    /// The scores file `sample` wrote, with scores (0-100) filled in; entries left null are skipped.
+    #[arg(long, default_value = "design/batch/scores.json")]
+    pub scores: PathBuf,
+}
+
+/// `shapegen design export`.
+#[derive(Debug, clap::Args)]
+pub struct DesignExportArgs {
+    /// Experiment and session.
+    #[command(flatten)]
+    pub session: SessionArgs,
+    /// structure (split nodes and a mixture; the thesis's default) or parameter (probabilities only).
+    #[arg(long, value_enum, default_value = "structure")]
+    pub sampler: SamplerArg,
+    /// Models drawn from the preference (rejection sampling) to fit it to.
+    #[arg(long, default_value_t = 1000)]
+    pub training: usize,
+    /// Random seed; default: the session's.
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// The learned generator's file.
+    #[arg(long, default_value = "design/learned.json")]
+    pub out: PathBuf,
+}
+
+/// How `design export` fits the learned generator.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum SamplerArg {
+    /// Split the relevant nodes by parent and fit a mixture by EM.
+    Structure,
+    /// Relative frequencies of the slot probabilities and choice weights.
+    Parameter,
 }
 
 /// `shapegen gallery`.

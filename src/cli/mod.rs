@@ -19,6 +19,7 @@
 
 pub mod args;
 mod compare;
+mod design;
 mod gallery;
 mod guard;
 mod plot;
@@ -172,6 +173,7 @@ impl Cli {
             Command::Compare(a) => compare::compare(self, &a),
             Command::Render(a) => render::render(self, &a),
             Command::Gallery(a) => gallery::gallery(self, &a),
+            Command::Design(c) => design::design(self, c),
         }
     }
 

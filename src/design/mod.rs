@@ -17,6 +17,7 @@
 //! # Ok::<(), shapegen::design::DesignError>(())
 //! ```
 
+pub mod session;
 pub mod tasks;
 
 pub use shapegen_design::*;

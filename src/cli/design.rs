@@ -1,0 +1,269 @@
+//! `shapegen design sample | learn | export`: a pdf design session from the
+//! command line (see [`crate::design::session`]).
+
+use std::path::Path;
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use super::args::{DesignCommand, DesignExportArgs, DesignLearnArgs, DesignSampleArgs, SamplerArg, SessionArgs};
+use super::{Cli, CliError, guard, thread_pool};
+use crate::design::session::{Session, Shown};
+use crate::design::{FactorOptions, Learner, StructureOptions};
+use crate::experiment::Experiment;
+
+/// One model of a batch's scores file.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct ScoreEntry {
+    /// The model's id in the session.
+    pub id: u64,
+    /// Its thumbnail, relative to the scores file.
+    pub thumbnail: String,
+    /// The learned preference's prediction, if any.
+    pub predicted: Option<f64>,
+    /// Its standard deviation.
+    pub std: Option<f64>,
+    /// The score to fill in (0-100), or null to skip the model.
+    pub score: Option<f64>,
+}
+
+/// A batch's scores file (`scores.json`).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct ScoresFile {
+    /// What to do with it.
+    pub instructions: String,
+    /// The generator.
+    pub generator: String,
+    /// The factor the scores are for.
+    pub factor: String,
+    /// How the batch was drawn.
+    pub mode: String,
+    /// The models.
+    pub models: Vec<ScoreEntry>,
+}
+
+/// Runs `shapegen design …`.
+pub(super) fn design(cli: &Cli, command: DesignCommand) -> Result<(), CliError> {
+    match command {
+        DesignCommand::Sample(a) => sample(cli, &a),
+        DesignCommand::Learn(a) => learn(cli, &a),
+        DesignCommand::Export(a) => export(cli, &a),
+    }
+}
+
+fn load(cli: &Cli, args: &SessionArgs) -> Result<Experiment, CliError> {
+    cli.load_experiment(args.experiment.experiment.as_deref(), args.experiment.data.as_deref())
+}
+
+fn open_session(experiment: &Experiment, path: &Path) -> Result<Session, CliError> {
+    if !path.exists() {
+        return Err(CliError::msg(format!(
+            "no session at {}: start one with `shapegen design sample --session {}`",
+            path.display(),
+            path.display()
+        )));
+    }
+    Session::load(path, experiment.generator(), experiment.graph()).map_err(|e| CliError::msg(e.to_string()))
+}
+
+fn sample(cli: &Cli, args: &DesignSampleArgs) -> Result<(), CliError> {
+    let experiment = load(cli, &args.session)?;
+    if args.count == 0 || args.count > 1000 {
+        return Err(CliError::msg(format!("--count must be 1 to 1000, got {}", args.count)));
+    }
+    if !(16..=1024).contains(&args.thumbnail) {
+        return Err(CliError::msg(format!("--thumbnail must be 16 to 1024 pixels, got {}", args.thumbnail)));
+    }
+    let path = &args.session.session;
+    let mut session = if path.exists() {
+        open_session(&experiment, path)?
+    } else {
+        Session::new(experiment.generator(), experiment.graph(), args.seed.unwrap_or(experiment.seed()))
+    };
+    if let Some(f) = &args.factor {
+        session.select_factor(f);
+    }
+    // Every output checked before anything is drawn.
+    guard::check_output_file(path)?;
+    guard::check_output_dir(&args.out)?;
+    let scores_path = args.out.join("scores.json");
+    guard::refuse_overwriting_inputs(
+        &[scores_path.clone(), args.out.join("index.html"), path.clone()],
+        experiment.inputs(),
+    )?;
+    let pool = thread_pool(args.threads)?;
+    let shown = pool
+        .install(|| session.sample(experiment.graph(), args.mode, args.count))
+        .map_err(|e| CliError::msg(e.to_string()))?;
+    let thumbnails: Vec<image::RgbaImage> = pool.install(|| {
+        shown
+            .par_iter()
+            .map(|s| crate::gallery::best_view_picture(&experiment, &s.model, args.thumbnail))
+            .collect::<Result<_, _>>()
+            .map_err(|e| CliError::msg(e.to_string()))
+    })?;
+    let factor = session.factors[session.current].name.clone();
+    let entries: Vec<ScoreEntry> = shown
+        .iter()
+        .map(|s| ScoreEntry {
+            id: s.id,
+            thumbnail: format!("model_{:06}.png", s.id),
+            predicted: s.predicted.map(|p| p.0),
+            std: s.predicted.map(|p| p.1),
+            score: s.score,
+        })
+        .collect();
+    guard::writing(|| -> Result<(), CliError> {
+        for (e, img) in entries.iter().zip(&thumbnails) {
+            crate::score::write_png_rgba(&args.out.join(&e.thumbnail), img)?;
+        }
+        let file = ScoresFile {
+            instructions: "Give each model a score from 0 (not wanted) to 100 (most wanted) in its `score` field (leave null to skip), then run `shapegen design learn`.".into(),
+            generator: experiment.generator().to_string(),
+            factor: factor.clone(),
+            mode: args.mode.name().into(),
+            models: entries.clone(),
+        };
+        crate::output::write_json(&scores_path, &file)?;
+        let html = page(experiment.generator(), &factor, args.mode.name(), &shown, &entries);
+        crate::score::write_atomically(&args.out.join("index.html"), html.as_bytes())?;
+        session.save(path).map_err(|e| CliError::msg(e.to_string()))
+    })?;
+    println!(
+        "{} models of `{}` ({} pdf) for factor `{factor}`: open {} and fill in the scores in {}, then run `shapegen design learn --session {} --scores {}`",
+        shown.len(),
+        experiment.generator(),
+        args.mode.name(),
+        args.out.join("index.html").display(),
+        scores_path.display(),
+        path.display(),
+        scores_path.display()
+    );
+    Ok(())
+}
+
+/// The batch as a page of thumbnails with ids (and predictions once learned).
+fn page(generator: &str, factor: &str, mode: &str, shown: &[Shown], entries: &[ScoreEntry]) -> String {
+    let esc = |s: &str| s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;");
+    let mut cells = String::new();
+    for (s, e) in shown.iter().zip(entries) {
+        let mut caption = format!("model {}", e.id);
+        if let Some((m, sd)) = s.predicted {
+            caption += &format!(" · predicted {m:.0} ± {sd:.0}");
+        }
+        if let Some(score) = s.score {
+            caption += &format!(" · scored {score:.0}");
+        }
+        cells += &format!(
+            "<figure><img src=\"{}\" alt=\"model {}\"><figcaption>{}</figcaption></figure>\n",
+            esc(&e.thumbnail),
+            e.id,
+            esc(&caption)
+        );
+    }
+    format!(
+        "<!doctype html><html><head><meta charset=\"utf-8\"><title>{g}: score these models</title>\
+<style>body{{font-family:sans-serif;margin:1.5em}}main{{display:flex;flex-wrap:wrap;gap:12px}}figure{{margin:0;text-align:center}}img{{border:1px solid #ccc}}figcaption{{font-size:0.9em}}</style>\
+</head><body><h1>{g}: factor “{f}”, {m} pdf</h1><p>Score each model from 0 to 100 in <code>scores.json</code> (by its id), then run <code>shapegen design learn</code>.</p><main>\n{cells}</main></body></html>\n",
+        g = esc(generator),
+        f = esc(factor),
+        m = esc(mode),
+    )
+}
+
+fn learn(cli: &Cli, args: &DesignLearnArgs) -> Result<(), CliError> {
+    let experiment = load(cli, &args.session)?;
+    let path = &args.session.session;
+    let mut session = open_session(&experiment, path)?;
+    crate::experiment::check_regular_file(&args.scores).map_err(CliError::msg)?;
+    let text = std::fs::read_to_string(&args.scores)
+        .map_err(|e| CliError::msg(format!("cannot read {}: {e}", args.scores.display())))?;
+    let file: ScoresFile = serde_json::from_str(&text)
+        .map_err(|e| CliError::msg(format!("{}: not a scores file written by `design sample`: {e}", args.scores.display())))?;
+    if file.generator != experiment.generator() {
+        return Err(CliError::msg(format!(
+            "{} holds models of `{}`, the experiment's generator is `{}`",
+            args.scores.display(),
+            file.generator,
+            experiment.generator()
+        )));
+    }
+    guard::check_output_file(path)?;
+    session.select_factor(&file.factor);
+    let mut added = 0;
+    for e in file.models.iter().filter(|e| e.score.is_some()) {
+        let score = e.score.unwrap_or_default();
+        session.score(e.id, score).map_err(|err| {
+            CliError::msg(format!("{}: {err}; nothing was saved", args.scores.display()))
+        })?;
+        added += 1;
+    }
+    // Scores are kept even if fitting fails.
+    session.save(path).map_err(|e| CliError::msg(e.to_string()))?;
+    let graph = experiment.graph();
+    let preference = session
+        .learn(graph, FactorOptions::default())
+        .map_err(|e| CliError::msg(e.to_string()))?
+        .clone();
+    session.save(path).map_err(|e| CliError::msg(e.to_string()))?;
+    println!(
+        "{added} scores added ({} scored in all); learned {} factor(s):",
+        session.scored_count(),
+        preference.factors.len()
+    );
+    for f in &preference.factors {
+        println!(
+            "  `{}` from {} models, path length {}; most relevant features:",
+            f.name,
+            f.gp.len(),
+            f.space.options().path_length
+        );
+        let max = f.gp.weights().iter().copied().fold(0.0, f64::max);
+        for (name, w) in f.top_features(graph, 6).into_iter().filter(|(_, w)| *w > 0.0 && *w >= 0.05 * max) {
+            println!("    {w:8.3}  {name}");
+        }
+    }
+    println!("next: `shapegen design sample --mode current` to see what it learned, or `shapegen design export`");
+    Ok(())
+}
+
+fn export(cli: &Cli, args: &DesignExportArgs) -> Result<(), CliError> {
+    let experiment = load(cli, &args.session)?;
+    let path = &args.session.session;
+    let session = open_session(&experiment, path)?;
+    if args.training == 0 || args.training > 1_000_000 {
+        return Err(CliError::msg(format!("--training must be 1 to 1000000, got {}", args.training)));
+    }
+    guard::check_output_file(&args.out)?;
+    guard::refuse_overwriting_inputs(
+        std::slice::from_ref(&args.out),
+        &[experiment.inputs(), std::slice::from_ref(path)].concat(),
+    )?;
+    let learner = match args.sampler {
+        SamplerArg::Structure => Learner::Structure,
+        SamplerArg::Parameter => Learner::Parameter,
+    };
+    let mut rng = crate::rng::stream(args.seed.unwrap_or(session.seed), &[0x6578_706f]);
+    let (pdf, report, acceptance) = session
+        .export(experiment.graph(), learner, args.training, StructureOptions::default(), &mut rng)
+        .map_err(|e| CliError::msg(e.to_string()))?;
+    guard::writing(|| crate::output::write_json(&args.out, &pdf))?;
+    print!(
+        "{} learned generator of `{}`: {} component(s) from {} models drawn by rejection (acceptance {:.1} %)",
+        pdf.method,
+        experiment.generator(),
+        pdf.components.len(),
+        args.training,
+        100.0 * acceptance
+    );
+    if let Some(r) = report {
+        print!("; split {:?} into {} nodes", r.split_nodes, r.split_graph_nodes);
+    }
+    println!(
+        "; wrote {} (use it with `shapegen gallery --prior {}` or `shapegen run --prior {}`)",
+        args.out.display(),
+        args.out.display(),
+        args.out.display()
+    );
+    Ok(())
+}

@@ -1,0 +1,415 @@
+//! A design session: the models a user scored, per factor, and what was
+//! learned from them, in one JSON file that every step reads and rewrites
+//! atomically, so a session can be stopped and resumed at any point.
+//!
+//! The steps (what `shapegen design sample | learn | export` do):
+//! 1. [`Session::sample`] draws a batch of models by a [`Mode`] and keeps
+//!    them as *pending* (with ids) until they are scored;
+//! 2. [`Session::score`] moves a pending model, with its score (0–100), to
+//!    the current factor's scored models (or re-scores a scored one);
+//! 3. [`Session::learn`] fits every factor that has scores;
+//! 4. [`Session::export`] draws training models from the learned preference
+//!    by rejection sampling and fits a [`LearnedPdf`].
+
+use std::path::Path;
+
+use rand::Rng;
+use serde::{Deserialize, Serialize};
+use shapegen_design::{
+    DesignError, Factor, FactorOptions, LearnedPdf, Learner, Preference, RejectionSampler,
+    StructureOptions, StructureReport, learn_pdf,
+};
+
+use crate::genome::{Chromosome, ChromosomeData};
+use crate::graph::Graph;
+use crate::ops::uncontrolled;
+
+/// Current version of the session file format.
+pub const SESSION_VERSION: u32 = 1;
+
+/// What went wrong with a session.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum SessionError {
+    /// Reading or writing the file.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: String,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The file is not a session.
+    #[error("{path} is not a shapegen design session: {why}")]
+    Format {
+        /// The file.
+        path: String,
+        /// Why.
+        why: String,
+    },
+    /// The session belongs to another generator.
+    #[error("the session is for generator `{found}`, not `{expected}` (its graph changed, or another experiment was given)")]
+    ForeignGenerator {
+        /// The session's.
+        found: String,
+        /// The experiment's.
+        expected: String,
+    },
+    /// A score outside 0–100 or not a number.
+    #[error("score {score} of model {id} is outside 0..=100")]
+    ScoreRange {
+        /// The model.
+        id: u64,
+        /// The score.
+        score: f64,
+    },
+    /// An id that is neither pending nor scored.
+    #[error("no model {0} in this session (it was not sampled here, or its batch was replaced)")]
+    UnknownModel(u64),
+    /// A mode that needs a learned preference, before any.
+    #[error("mode `{0}` needs a learned preference: score some models and run `learn` first")]
+    NotLearned(&'static str),
+    /// Learning or sampling.
+    #[error(transparent)]
+    Design(#[from] DesignError),
+}
+
+/// How a batch of models is chosen (the thesis's §4.6).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+pub enum Mode {
+    /// From the generator's default pdf (uncontrolled generation).
+    Default,
+    /// From the current pdf: the default reweighted by the learned preference.
+    Current,
+    /// From the complementary pdf: reweighted by 100 minus the preference.
+    Complementary,
+    /// The default samples the preference is least sure about.
+    Uncertain,
+    /// The current factor's scored models, to correct mistakes.
+    Scored,
+}
+
+impl Mode {
+    /// The mode's name as the command line spells it.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Default => "default",
+            Self::Current => "current",
+            Self::Complementary => "complementary",
+            Self::Uncertain => "uncertain",
+            Self::Scored => "scored",
+        }
+    }
+}
+
+/// A scored model.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Scored {
+    /// Its id in the session.
+    pub id: u64,
+    /// The model.
+    pub model: ChromosomeData,
+    /// Its score, 0–100.
+    pub score: f64,
+}
+
+/// A model shown but not scored yet.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Pending {
+    /// Its id in the session.
+    pub id: u64,
+    /// The model.
+    pub model: ChromosomeData,
+}
+
+/// One factor's scores.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct FactorScores {
+    /// The factor's name.
+    pub name: String,
+    /// Its scored models.
+    pub scored: Vec<Scored>,
+}
+
+/// A model of a batch with what the preference predicts for it.
+#[derive(Clone, Debug)]
+pub struct Shown {
+    /// Its id (what a score names).
+    pub id: u64,
+    /// The model.
+    pub model: Chromosome,
+    /// Predicted score and its standard deviation, once learned.
+    pub predicted: Option<(f64, f64)>,
+    /// Its score so far (mode `scored`).
+    pub score: Option<f64>,
+}
+
+/// A design session.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Session {
+    /// Format version ([`SESSION_VERSION`]).
+    pub version: u32,
+    /// The generator's name.
+    pub generator: String,
+    /// Its graph's fingerprint (16 hex digits).
+    pub fingerprint: String,
+    /// The factors; the preference is their product.
+    pub factors: Vec<FactorScores>,
+    /// The factor that scores go to.
+    pub current: usize,
+    /// The last batch's models not scored yet.
+    pub pending: Vec<Pending>,
+    /// The next model id.
+    pub next_id: u64,
+    /// Batches drawn so far (each draws from its own random stream).
+    pub batches: u64,
+    /// Seed of the session's random streams.
+    pub seed: u64,
+    /// The learned factors (one per factor with scores), after `learn`.
+    #[serde(default)]
+    pub learned: Option<Preference>,
+}
+
+fn fingerprint(graph: &Graph) -> String {
+    format!("{:016x}", graph.fingerprint())
+}
+
+impl Session {
+    /// A new session for `graph` with one factor called `preference`.
+    #[must_use]
+    pub fn new(generator: &str, graph: &Graph, seed: u64) -> Self {
+        Self {
+            version: SESSION_VERSION,
+            generator: generator.to_string(),
+            fingerprint: fingerprint(graph),
+            factors: vec![FactorScores {
+                name: "preference".into(),
+                scored: Vec::new(),
+            }],
+            current: 0,
+            pending: Vec::new(),
+            next_id: 0,
+            batches: 0,
+            seed,
+            learned: None,
+        }
+    }
+
+    /// Reads a session and checks it against `graph` (the generator's
+    /// fingerprint, and every stored model against the graph).
+    pub fn load(path: &Path, generator: &str, graph: &Graph) -> Result<Self, SessionError> {
+        let text = std::fs::read_to_string(path).map_err(|source| SessionError::Io {
+            path: path.display().to_string(),
+            source,
+        })?;
+        let format = |why: String| SessionError::Format {
+            path: path.display().to_string(),
+            why,
+        };
+        let session: Self = serde_json::from_str(&text).map_err(|e| format(e.to_string()))?;
+        if session.version != SESSION_VERSION {
+            return Err(format(format!(
+                "format version {} (this build reads {SESSION_VERSION})",
+                session.version
+            )));
+        }
+        if session.fingerprint != fingerprint(graph) {
+            return Err(SessionError::ForeignGenerator {
+                found: session.generator,
+                expected: generator.to_string(),
+            });
+        }
+        if session.factors.is_empty() || session.current >= session.factors.len() {
+            return Err(format("no factor, or the current factor does not exist".into()));
+        }
+        let all = session
+            .pending
+            .iter()
+            .map(|p| (p.id, &p.model))
+            .chain(session.factors.iter().flat_map(|f| f.scored.iter().map(|s| (s.id, &s.model))));
+        for (id, data) in all {
+            Chromosome::from_data(graph, data).map_err(|e| format(format!("model {id}: {e}")))?;
+        }
+        for s in session.factors.iter().flat_map(|f| &f.scored) {
+            if !(0.0..=100.0).contains(&s.score) {
+                return Err(SessionError::ScoreRange {
+                    id: s.id,
+                    score: s.score,
+                });
+            }
+        }
+        Ok(session)
+    }
+
+    /// Writes the session atomically (a temporary file renamed over it).
+    pub fn save(&self, path: &Path) -> Result<(), SessionError> {
+        let text = serde_json::to_string_pretty(self).map_err(|e| SessionError::Format {
+            path: path.display().to_string(),
+            why: e.to_string(),
+        })?;
+        crate::score::write_atomically(path, text.as_bytes()).map_err(|e| SessionError::Io {
+            path: path.display().to_string(),
+            source: std::io::Error::other(e.to_string()),
+        })
+    }
+
+    /// Makes `name` the current factor, creating it if needed.
+    pub fn select_factor(&mut self, name: &str) {
+        match self.factors.iter().position(|f| f.name == name) {
+            Some(i) => self.current = i,
+            None => {
+                self.factors.push(FactorScores {
+                    name: name.to_string(),
+                    scored: Vec::new(),
+                });
+                self.current = self.factors.len() - 1;
+            }
+        }
+    }
+
+    /// Scored models over all factors.
+    #[must_use]
+    pub fn scored_count(&self) -> usize {
+        self.factors.iter().map(|f| f.scored.len()).sum()
+    }
+
+    /// Draws a batch of `count` models by `mode`; they replace the pending
+    /// batch. Batch `b` draws from the random stream `(seed, b)`.
+    pub fn sample(&mut self, graph: &Graph, mode: Mode, count: usize) -> Result<Vec<Shown>, SessionError> {
+        let preference = self.learned.clone();
+        let predict = |m: &Chromosome| preference.as_ref().map(|p| p.predict(graph, m));
+        let mut rng = crate::rng::stream(self.seed, &[0x6465_7369, self.batches]);
+        let models: Vec<(Option<u64>, Chromosome, Option<f64>)> = match mode {
+            Mode::Default => (0..count)
+                .map(|_| uncontrolled(graph, &mut rng).map(|m| (None, m, None)))
+                .collect::<Result<_, _>>()
+                .map_err(DesignError::from)?,
+            Mode::Current | Mode::Complementary => {
+                let p = preference.as_ref().ok_or(SessionError::NotLearned(mode.name()))?;
+                let complementary = mode == Mode::Complementary;
+                let u = |m: &Chromosome| {
+                    let v = p.value(graph, m);
+                    if complementary { 1.0 - v } else { v }
+                };
+                let mut sampler = RejectionSampler::new(graph, &u, 200, &mut rng)?.with_max_proposals(200_000);
+                (0..count)
+                    .map(|_| sampler.sample(&mut rng).map(|m| (None, m, None)))
+                    .collect::<Result<_, _>>()?
+            }
+            Mode::Uncertain => {
+                let p = preference.as_ref().ok_or(SessionError::NotLearned(mode.name()))?;
+                let mut pool: Vec<(f64, Chromosome)> = (0..count * 10)
+                    .map(|_| uncontrolled(graph, &mut rng).map(|m| (p.predict(graph, &m).1, m)))
+                    .collect::<Result<_, _>>()
+                    .map_err(DesignError::from)?;
+                pool.sort_by(|a, b| b.0.total_cmp(&a.0));
+                pool.into_iter().take(count).map(|(_, m)| (None, m, None)).collect()
+            }
+            Mode::Scored => {
+                let factor = &self.factors[self.current];
+                let mut scored: Vec<&Scored> = factor.scored.iter().collect();
+                scored.sort_by(|a, b| b.score.total_cmp(&a.score).then(a.id.cmp(&b.id)));
+                scored
+                    .into_iter()
+                    .take(count)
+                    .map(|s| {
+                        Chromosome::from_data(graph, &s.model)
+                            .map(|m| (Some(s.id), m, Some(s.score)))
+                            .map_err(|e| SessionError::Design(e.into()))
+                    })
+                    .collect::<Result<_, _>>()?
+            }
+        };
+        self.batches += 1;
+        self.pending.clear();
+        let mut shown = Vec::with_capacity(models.len());
+        for (id, model, score) in models {
+            let id = id.unwrap_or_else(|| {
+                let id = self.next_id;
+                self.next_id += 1;
+                id
+            });
+            if score.is_none() {
+                self.pending.push(Pending {
+                    id,
+                    model: model.to_data(graph),
+                });
+            }
+            shown.push(Shown {
+                id,
+                predicted: predict(&model),
+                model,
+                score,
+            });
+        }
+        Ok(shown)
+    }
+
+    /// Gives model `id` (pending, or scored for the current factor) the
+    /// score `score` for the current factor.
+    pub fn score(&mut self, id: u64, score: f64) -> Result<(), SessionError> {
+        if !(0.0..=100.0).contains(&score) {
+            return Err(SessionError::ScoreRange { id, score });
+        }
+        let factor = &mut self.factors[self.current];
+        if let Some(s) = factor.scored.iter_mut().find(|s| s.id == id) {
+            s.score = score;
+            return Ok(());
+        }
+        let at = self
+            .pending
+            .iter()
+            .position(|p| p.id == id)
+            .ok_or(SessionError::UnknownModel(id))?;
+        let p = self.pending.remove(at);
+        factor.scored.push(Scored {
+            id,
+            model: p.model,
+            score,
+        });
+        Ok(())
+    }
+
+    /// Fits one factor per factor with scores; the preference is their product.
+    pub fn learn(&mut self, graph: &Graph, options: FactorOptions) -> Result<&Preference, SessionError> {
+        let mut factors = Vec::new();
+        for f in self.factors.iter().filter(|f| !f.scored.is_empty()) {
+            let models: Vec<Chromosome> = f
+                .scored
+                .iter()
+                .map(|s| Chromosome::from_data(graph, &s.model))
+                .collect::<Result<_, _>>()
+                .map_err(DesignError::from)?;
+            let scores: Vec<f64> = f.scored.iter().map(|s| s.score).collect();
+            factors.push(Factor::fit(&f.name, graph, &models, &scores, options)?);
+        }
+        if factors.is_empty() {
+            return Err(DesignError::NoScores.into());
+        }
+        Ok(self.learned.insert(Preference { factors }))
+    }
+
+    /// Draws `training` models from the learned preference (rejection
+    /// sampling, seed `seed`) and fits a learned pdf with `learner`.
+    pub fn export<R: Rng>(
+        &self,
+        graph: &Graph,
+        learner: Learner,
+        training: usize,
+        options: StructureOptions,
+        rng: &mut R,
+    ) -> Result<(LearnedPdf, Option<StructureReport>, f64), SessionError> {
+        let p = self.learned.as_ref().ok_or(SessionError::NotLearned("export"))?;
+        let u = |m: &Chromosome| p.value(graph, m);
+        let mut sampler = RejectionSampler::new(graph, &u, 500, rng)?;
+        let models: Vec<Chromosome> =
+            (0..training.max(1)).map(|_| sampler.sample(rng)).collect::<Result<_, _>>()?;
+        let acceptance = models.len() as f64 / sampler.proposals().max(1) as f64;
+        let (mut pdf, report) = learn_pdf(graph, &models, p, learner, options)?;
+        pdf.generator.clone_from(&self.generator);
+        Ok((pdf, report, acceptance))
+    }
+}
