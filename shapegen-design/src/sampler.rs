@@ -617,12 +617,10 @@ pub fn parameter_learning(
         &vec![1.0; counts.len()],
         &events.probabilities(split.graph()),
     );
-    Ok(learned(
-        base,
-        &split,
-        "parameter",
-        vec![(1.0, events.apply(split.graph().spec(), &table))],
-    ))
+    let spec = events.apply(split.graph().spec(), &table);
+    let mut pdf = learned(base, &split, "parameter", vec![(1.0, spec.clone())]);
+    pdf.marginal = Some(spec);
+    Ok(pdf)
 }
 
 fn learned(

@@ -142,6 +142,9 @@ pub struct GalleryArgs {
     /// The model in the middle: a chromosome file (e.g. best.json); default: the generator's default model.
     #[arg(long)]
     pub default_model: Option<PathBuf>,
+    /// Draw the samples from a learned generator (`shapegen design export`) instead of the default pdf.
+    #[arg(long)]
+    pub prior: Option<PathBuf>,
     /// Side of a representative's thumbnail in pixels (the default model's is 3× larger).
     #[arg(long, default_value_t = 160)]
     pub thumbnail: u32,
@@ -199,6 +202,9 @@ pub struct RunArgs {
     /// Resume the run saved in this checkpoint (same experiment; method and seed come from it).
     #[arg(long)]
     pub resume: Option<PathBuf>,
+    /// A learned generator (`shapegen design export`): initial models and grow moves follow its probabilities.
+    #[arg(long)]
+    pub prior: Option<PathBuf>,
     /// No progress bar or progress lines.
     #[arg(long, short)]
     pub quiet: bool,

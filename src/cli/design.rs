@@ -6,7 +6,9 @@ use std::path::Path;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::args::{DesignCommand, DesignExportArgs, DesignLearnArgs, DesignSampleArgs, SamplerArg, SessionArgs};
+use super::args::{
+    DesignCommand, DesignExportArgs, DesignLearnArgs, DesignSampleArgs, SamplerArg, SessionArgs,
+};
 use super::{Cli, CliError, guard, thread_pool};
 use crate::design::session::{Session, Shown};
 use crate::design::{FactorOptions, Learner, StructureOptions};
@@ -52,7 +54,10 @@ pub(super) fn design(cli: &Cli, command: DesignCommand) -> Result<(), CliError> 
 }
 
 fn load(cli: &Cli, args: &SessionArgs) -> Result<Experiment, CliError> {
-    cli.load_experiment(args.experiment.experiment.as_deref(), args.experiment.data.as_deref())
+    cli.load_experiment(
+        args.experiment.experiment.as_deref(),
+        args.experiment.data.as_deref(),
+    )
 }
 
 fn open_session(experiment: &Experiment, path: &Path) -> Result<Session, CliError> {
@@ -63,22 +68,33 @@ fn open_session(experiment: &Experiment, path: &Path) -> Result<Session, CliErro
             path.display()
         )));
     }
-    Session::load(path, experiment.generator(), experiment.graph()).map_err(|e| CliError::msg(e.to_string()))
+    Session::load(path, experiment.generator(), experiment.graph())
+        .map_err(|e| CliError::msg(e.to_string()))
 }
 
 fn sample(cli: &Cli, args: &DesignSampleArgs) -> Result<(), CliError> {
     let experiment = load(cli, &args.session)?;
     if args.count == 0 || args.count > 1000 {
-        return Err(CliError::msg(format!("--count must be 1 to 1000, got {}", args.count)));
+        return Err(CliError::msg(format!(
+            "--count must be 1 to 1000, got {}",
+            args.count
+        )));
     }
     if !(16..=1024).contains(&args.thumbnail) {
-        return Err(CliError::msg(format!("--thumbnail must be 16 to 1024 pixels, got {}", args.thumbnail)));
+        return Err(CliError::msg(format!(
+            "--thumbnail must be 16 to 1024 pixels, got {}",
+            args.thumbnail
+        )));
     }
     let path = &args.session.session;
     let mut session = if path.exists() {
         open_session(&experiment, path)?
     } else {
-        Session::new(experiment.generator(), experiment.graph(), args.seed.unwrap_or(experiment.seed()))
+        Session::new(
+            experiment.generator(),
+            experiment.graph(),
+            args.seed.unwrap_or(experiment.seed()),
+        )
     };
     if let Some(f) = &args.factor {
         session.select_factor(f);
@@ -88,7 +104,11 @@ fn sample(cli: &Cli, args: &DesignSampleArgs) -> Result<(), CliError> {
     guard::check_output_dir(&args.out)?;
     let scores_path = args.out.join("scores.json");
     guard::refuse_overwriting_inputs(
-        &[scores_path.clone(), args.out.join("index.html"), path.clone()],
+        &[
+            scores_path.clone(),
+            args.out.join("index.html"),
+            path.clone(),
+        ],
         experiment.inputs(),
     )?;
     let pool = thread_pool(args.threads)?;
@@ -125,7 +145,13 @@ fn sample(cli: &Cli, args: &DesignSampleArgs) -> Result<(), CliError> {
             models: entries.clone(),
         };
         crate::output::write_json(&scores_path, &file)?;
-        let html = page(experiment.generator(), &factor, args.mode.name(), &shown, &entries);
+        let html = page(
+            experiment.generator(),
+            &factor,
+            args.mode.name(),
+            &shown,
+            &entries,
+        );
         crate::score::write_atomically(&args.out.join("index.html"), html.as_bytes())?;
         session.save(path).map_err(|e| CliError::msg(e.to_string()))
     })?;
@@ -143,8 +169,18 @@ fn sample(cli: &Cli, args: &DesignSampleArgs) -> Result<(), CliError> {
 }
 
 /// The batch as a page of thumbnails with ids (and predictions once learned).
-fn page(generator: &str, factor: &str, mode: &str, shown: &[Shown], entries: &[ScoreEntry]) -> String {
-    let esc = |s: &str| s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;");
+fn page(
+    generator: &str,
+    factor: &str,
+    mode: &str,
+    shown: &[Shown],
+    entries: &[ScoreEntry],
+) -> String {
+    let esc = |s: &str| {
+        s.replace('&', "&amp;")
+            .replace('<', "&lt;")
+            .replace('>', "&gt;")
+    };
     let mut cells = String::new();
     for (s, e) in shown.iter().zip(entries) {
         let mut caption = format!("model {}", e.id);
@@ -178,8 +214,12 @@ fn learn(cli: &Cli, args: &DesignLearnArgs) -> Result<(), CliError> {
     crate::experiment::check_regular_file(&args.scores).map_err(CliError::msg)?;
     let text = std::fs::read_to_string(&args.scores)
         .map_err(|e| CliError::msg(format!("cannot read {}: {e}", args.scores.display())))?;
-    let file: ScoresFile = serde_json::from_str(&text)
-        .map_err(|e| CliError::msg(format!("{}: not a scores file written by `design sample`: {e}", args.scores.display())))?;
+    let file: ScoresFile = serde_json::from_str(&text).map_err(|e| {
+        CliError::msg(format!(
+            "{}: not a scores file written by `design sample`: {e}",
+            args.scores.display()
+        ))
+    })?;
     if file.generator != experiment.generator() {
         return Err(CliError::msg(format!(
             "{} holds models of `{}`, the experiment's generator is `{}`",
@@ -194,18 +234,25 @@ fn learn(cli: &Cli, args: &DesignLearnArgs) -> Result<(), CliError> {
     for e in file.models.iter().filter(|e| e.score.is_some()) {
         let score = e.score.unwrap_or_default();
         session.score(e.id, score).map_err(|err| {
-            CliError::msg(format!("{}: {err}; nothing was saved", args.scores.display()))
+            CliError::msg(format!(
+                "{}: {err}; nothing was saved",
+                args.scores.display()
+            ))
         })?;
         added += 1;
     }
     // Scores are kept even if fitting fails.
-    session.save(path).map_err(|e| CliError::msg(e.to_string()))?;
+    session
+        .save(path)
+        .map_err(|e| CliError::msg(e.to_string()))?;
     let graph = experiment.graph();
     let preference = session
         .learn(graph, FactorOptions::default())
         .map_err(|e| CliError::msg(e.to_string()))?
         .clone();
-    session.save(path).map_err(|e| CliError::msg(e.to_string()))?;
+    session
+        .save(path)
+        .map_err(|e| CliError::msg(e.to_string()))?;
     println!(
         "{added} scores added ({} scored in all); learned {} factor(s):",
         session.scored_count(),
@@ -219,11 +266,17 @@ fn learn(cli: &Cli, args: &DesignLearnArgs) -> Result<(), CliError> {
             f.space.options().path_length
         );
         let max = f.gp.weights().iter().copied().fold(0.0, f64::max);
-        for (name, w) in f.top_features(graph, 6).into_iter().filter(|(_, w)| *w > 0.0 && *w >= 0.05 * max) {
+        for (name, w) in f
+            .top_features(graph, 6)
+            .into_iter()
+            .filter(|(_, w)| *w > 0.0 && *w >= 0.05 * max)
+        {
             println!("    {w:8.3}  {name}");
         }
     }
-    println!("next: `shapegen design sample --mode current` to see what it learned, or `shapegen design export`");
+    println!(
+        "next: `shapegen design sample --mode current` to see what it learned, or `shapegen design export`"
+    );
     Ok(())
 }
 
@@ -232,7 +285,10 @@ fn export(cli: &Cli, args: &DesignExportArgs) -> Result<(), CliError> {
     let path = &args.session.session;
     let session = open_session(&experiment, path)?;
     if args.training == 0 || args.training > 1_000_000 {
-        return Err(CliError::msg(format!("--training must be 1 to 1000000, got {}", args.training)));
+        return Err(CliError::msg(format!(
+            "--training must be 1 to 1000000, got {}",
+            args.training
+        )));
     }
     guard::check_output_file(&args.out)?;
     guard::refuse_overwriting_inputs(
@@ -245,7 +301,13 @@ fn export(cli: &Cli, args: &DesignExportArgs) -> Result<(), CliError> {
     };
     let mut rng = crate::rng::stream(args.seed.unwrap_or(session.seed), &[0x6578_706f]);
     let (pdf, report, acceptance) = session
-        .export(experiment.graph(), learner, args.training, StructureOptions::default(), &mut rng)
+        .export(
+            experiment.graph(),
+            learner,
+            args.training,
+            StructureOptions::default(),
+            &mut rng,
+        )
         .map_err(|e| CliError::msg(e.to_string()))?;
     guard::writing(|| crate::output::write_json(&args.out, &pdf))?;
     print!(
@@ -257,7 +319,10 @@ fn export(cli: &Cli, args: &DesignExportArgs) -> Result<(), CliError> {
         100.0 * acceptance
     );
     if let Some(r) = report {
-        print!("; split {:?} into {} nodes", r.split_nodes, r.split_graph_nodes);
+        print!(
+            "; split {:?} into {} nodes",
+            r.split_nodes, r.split_graph_nodes
+        );
     }
     println!(
         "; wrote {} (use it with `shapegen gallery --prior {}` or `shapegen run --prior {}`)",

@@ -30,6 +30,15 @@ pub(super) fn gallery(cli: &Cli, args: &GalleryArgs) -> Result<(), CliError> {
     outputs.push(args.out.join("models"));
     let mut inputs = experiment.inputs().to_vec();
     inputs.extend(args.default_model.iter().cloned());
+    inputs.extend(args.prior.iter().cloned());
+    let learned = match &args.prior {
+        None => None,
+        Some(path) => Some(
+            super::read_learned(path)?
+                .sampler(experiment.graph())
+                .map_err(|e| CliError::msg(format!("{}: {e}", path.display())))?,
+        ),
+    };
     guard::refuse_overwriting_inputs(&outputs, &inputs)?;
     // A model file of the experiment inside `out/models` would be replaced.
     let models_dir = std::fs::canonicalize(args.out.join("models")).ok();
@@ -65,7 +74,12 @@ pub(super) fn gallery(cli: &Cli, args: &GalleryArgs) -> Result<(), CliError> {
         }
     };
     let gallery = pool
-        .install(|| Gallery::sample(&experiment, &options, &progress))
+        .install(|| match &learned {
+            None => Gallery::sample(&experiment, &options, &progress),
+            Some(sampler) => Gallery::sample_with(&experiment, &options, &progress, &|rng| {
+                sampler.sample(rng).map_err(|e| e.to_string())
+            }),
+        })
         .map_err(|e| CliError::msg(e.to_string()))?;
     if let Some(bar) = &bar {
         bar.finish_and_clear();
@@ -73,7 +87,14 @@ pub(super) fn gallery(cli: &Cli, args: &GalleryArgs) -> Result<(), CliError> {
     for note in &gallery.notes {
         eprintln!("shapegen: note: {note}");
     }
-    let title = format!("What `{}` can make", experiment.generator());
+    let title = match &args.prior {
+        None => format!("What `{}` can make", experiment.generator()),
+        Some(p) => format!(
+            "What `{}` makes under {}",
+            experiment.generator(),
+            p.display()
+        ),
+    };
     let written = guard::writing(|| gallery.write(&args.out, &experiment, &title))
         .map_err(|e| CliError::msg(e.to_string()))?;
     let v = gallery.best_view.viewpoint;

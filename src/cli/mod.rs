@@ -218,6 +218,19 @@ fn read_chromosome(
     Ok(experiment.chromosome(&data, path)?)
 }
 
+/// A learned generator written by `shapegen design export`.
+fn read_learned(path: &Path) -> Result<crate::design::LearnedPdf, CliError> {
+    crate::experiment::check_regular_file(path).map_err(CliError::msg)?;
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| CliError::msg(format!("cannot read {}: {e}", path.display())))?;
+    serde_json::from_str(&text).map_err(|e| {
+        CliError::msg(format!(
+            "{}: not a learned generator written by `shapegen design export`: {e}",
+            path.display()
+        ))
+    })
+}
+
 /// A `--seconds` value as a duration (finite, > 0, at most a century).
 fn seconds(s: f64) -> Result<std::time::Duration, CliError> {
     crate::optimize::Budget::seconds(s).ok_or_else(|| {

@@ -14,10 +14,13 @@ use crate::output::{self, Row, Summary};
 
 /// Runs `shapegen run`.
 pub(super) fn run(cli: &Cli, args: &RunArgs) -> Result<(), CliError> {
-    let experiment = cli.load_experiment(
+    let mut experiment = cli.load_experiment(
         args.experiment.experiment.as_deref(),
         args.experiment.data.as_deref(),
     )?;
+    if let Some(path) = &args.prior {
+        experiment.use_prior(&super::read_learned(path)?, path)?;
+    }
     if args.generations == Some(0) {
         return Err(CliError::msg(
             "--generations must be at least 1 (generation 0 is the initial population)",

@@ -48,7 +48,9 @@ pub enum SessionError {
         why: String,
     },
     /// The session belongs to another generator.
-    #[error("the session is for generator `{found}`, not `{expected}` (its graph changed, or another experiment was given)")]
+    #[error(
+        "the session is for generator `{found}`, not `{expected}` (its graph changed, or another experiment was given)"
+    )]
     ForeignGenerator {
         /// The session's.
         found: String,
@@ -223,13 +225,16 @@ impl Session {
             });
         }
         if session.factors.is_empty() || session.current >= session.factors.len() {
-            return Err(format("no factor, or the current factor does not exist".into()));
+            return Err(format(
+                "no factor, or the current factor does not exist".into(),
+            ));
         }
-        let all = session
-            .pending
-            .iter()
-            .map(|p| (p.id, &p.model))
-            .chain(session.factors.iter().flat_map(|f| f.scored.iter().map(|s| (s.id, &s.model))));
+        let all = session.pending.iter().map(|p| (p.id, &p.model)).chain(
+            session
+                .factors
+                .iter()
+                .flat_map(|f| f.scored.iter().map(|s| (s.id, &s.model))),
+        );
         for (id, data) in all {
             Chromosome::from_data(graph, data).map_err(|e| format(format!("model {id}: {e}")))?;
         }
@@ -278,7 +283,12 @@ impl Session {
 
     /// Draws a batch of `count` models by `mode`; they replace the pending
     /// batch. Batch `b` draws from the random stream `(seed, b)`.
-    pub fn sample(&mut self, graph: &Graph, mode: Mode, count: usize) -> Result<Vec<Shown>, SessionError> {
+    pub fn sample(
+        &mut self,
+        graph: &Graph,
+        mode: Mode,
+        count: usize,
+    ) -> Result<Vec<Shown>, SessionError> {
         let preference = self.learned.clone();
         let predict = |m: &Chromosome| preference.as_ref().map(|p| p.predict(graph, m));
         let mut rng = crate::rng::stream(self.seed, &[0x6465_7369, self.batches]);
@@ -288,25 +298,33 @@ impl Session {
                 .collect::<Result<_, _>>()
                 .map_err(DesignError::from)?,
             Mode::Current | Mode::Complementary => {
-                let p = preference.as_ref().ok_or(SessionError::NotLearned(mode.name()))?;
+                let p = preference
+                    .as_ref()
+                    .ok_or(SessionError::NotLearned(mode.name()))?;
                 let complementary = mode == Mode::Complementary;
                 let u = |m: &Chromosome| {
                     let v = p.value(graph, m);
                     if complementary { 1.0 - v } else { v }
                 };
-                let mut sampler = RejectionSampler::new(graph, &u, 200, &mut rng)?.with_max_proposals(200_000);
+                let mut sampler =
+                    RejectionSampler::new(graph, &u, 200, &mut rng)?.with_max_proposals(200_000);
                 (0..count)
                     .map(|_| sampler.sample(&mut rng).map(|m| (None, m, None)))
                     .collect::<Result<_, _>>()?
             }
             Mode::Uncertain => {
-                let p = preference.as_ref().ok_or(SessionError::NotLearned(mode.name()))?;
+                let p = preference
+                    .as_ref()
+                    .ok_or(SessionError::NotLearned(mode.name()))?;
                 let mut pool: Vec<(f64, Chromosome)> = (0..count * 10)
                     .map(|_| uncontrolled(graph, &mut rng).map(|m| (p.predict(graph, &m).1, m)))
                     .collect::<Result<_, _>>()
                     .map_err(DesignError::from)?;
                 pool.sort_by(|a, b| b.0.total_cmp(&a.0));
-                pool.into_iter().take(count).map(|(_, m)| (None, m, None)).collect()
+                pool.into_iter()
+                    .take(count)
+                    .map(|(_, m)| (None, m, None))
+                    .collect()
             }
             Mode::Scored => {
                 let factor = &self.factors[self.current];
@@ -374,7 +392,11 @@ impl Session {
     }
 
     /// Fits one factor per factor with scores; the preference is their product.
-    pub fn learn(&mut self, graph: &Graph, options: FactorOptions) -> Result<&Preference, SessionError> {
+    pub fn learn(
+        &mut self,
+        graph: &Graph,
+        options: FactorOptions,
+    ) -> Result<&Preference, SessionError> {
         let mut factors = Vec::new();
         for f in self.factors.iter().filter(|f| !f.scored.is_empty()) {
             let models: Vec<Chromosome> = f
@@ -402,11 +424,15 @@ impl Session {
         options: StructureOptions,
         rng: &mut R,
     ) -> Result<(LearnedPdf, Option<StructureReport>, f64), SessionError> {
-        let p = self.learned.as_ref().ok_or(SessionError::NotLearned("export"))?;
+        let p = self
+            .learned
+            .as_ref()
+            .ok_or(SessionError::NotLearned("export"))?;
         let u = |m: &Chromosome| p.value(graph, m);
         let mut sampler = RejectionSampler::new(graph, &u, 500, rng)?;
-        let models: Vec<Chromosome> =
-            (0..training.max(1)).map(|_| sampler.sample(rng)).collect::<Result<_, _>>()?;
+        let models: Vec<Chromosome> = (0..training.max(1))
+            .map(|_| sampler.sample(rng))
+            .collect::<Result<_, _>>()?;
         let acceptance = models.len() as f64 / sampler.proposals().max(1) as f64;
         let (mut pdf, report) = learn_pdf(graph, &models, p, learner, options)?;
         pdf.generator.clone_from(&self.generator);

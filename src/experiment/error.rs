@@ -74,6 +74,14 @@ pub enum ExperimentError {
     /// Making a picture or gallery failed.
     #[error(transparent)]
     Gallery(#[from] crate::gallery::GalleryError),
+    /// A learned prior (`learned.json`) that cannot be used.
+    #[error("{}: cannot use the learned prior: {source}", path.display())]
+    Prior {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: Box<crate::design::DesignError>,
+    },
 }
 
 fn key_prefix(key: &str) -> String {

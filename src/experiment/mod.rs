@@ -412,6 +412,29 @@ impl Experiment {
         self.problem.graph()
     }
 
+    /// Grows and alters models with the probabilities of a learned pdf
+    /// (`shapegen design export`, [`LearnedPdf::prior_graph`](crate::design::LearnedPdf::prior_graph)):
+    /// the optimizers' initial individuals and grow moves then follow the
+    /// style the user designed, while every model stays one the generator
+    /// can derive (the prior keeps the graph's nodes, supports and limits,
+    /// so saved chromosomes are the same generator's). The prior file
+    /// becomes one of the experiment's [`inputs`](Self::inputs).
+    pub fn use_prior(
+        &mut self,
+        pdf: &crate::design::LearnedPdf,
+        path: &Path,
+    ) -> Result<(), ExperimentError> {
+        let graph = pdf
+            .prior_graph(self.graph())
+            .map_err(|e| ExperimentError::Prior {
+                path: path.to_path_buf(),
+                source: Box::new(e),
+            })?;
+        self.problem.set_graph(graph);
+        self.inputs.push(path.to_path_buf());
+        Ok(())
+    }
+
     /// The configuration of `method` (the paper's spaceship presets if the
     /// file has no table for it).
     #[must_use]

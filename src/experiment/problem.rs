@@ -41,6 +41,9 @@ pub(crate) enum SceneSetup {
 pub(crate) trait Problem: Send + Sync {
     /// The generator graph with the experiment's limits.
     fn graph(&self) -> &Graph;
+    /// Replaces the graph by one with the same nodes (fingerprint) and
+    /// limits but other probabilities (a learned prior).
+    fn set_graph(&mut self, graph: Graph);
     /// Runs `method` (from the start, or from `resume`).
     fn run(
         &self,
@@ -257,6 +260,11 @@ where
 {
     fn graph(&self) -> &Graph {
         &self.graph
+    }
+
+    fn set_graph(&mut self, graph: Graph) {
+        debug_assert_eq!(graph.fingerprint(), self.graph.fingerprint());
+        self.graph = graph;
     }
 
     fn run(

@@ -98,6 +98,9 @@ pub enum GalleryError {
     /// Rendering or writing.
     #[error(transparent)]
     Score(#[from] ScoreError),
+    /// A sample could not be drawn (or was not a model of the generator).
+    #[error("cannot draw a sample: {0}")]
+    Sample(String),
     /// No model has anything to look at.
     #[error("none of the {0} models emits any geometry, so there is nothing to show")]
     Empty(usize),
@@ -261,6 +264,21 @@ impl Gallery {
         options: &GalleryOptions,
         progress: &(dyn Fn(usize) + Sync),
     ) -> Result<Self, GalleryError> {
+        let graph = models.graph();
+        Self::sample_with(models, options, progress, &|rng| {
+            crate::ops::uncontrolled(graph, rng).map_err(|e| e.to_string())
+        })
+    }
+
+    /// [`sample`](Self::sample) with the samples drawn by `draw` (e.g. a
+    /// learned pdf's sampler) instead of uncontrolled generation; each
+    /// sample must be a model of `models`' graph.
+    pub fn sample_with(
+        models: &dyn Models,
+        options: &GalleryOptions,
+        progress: &(dyn Fn(usize) + Sync),
+        draw: &(dyn Fn(&mut crate::rng::ShapeRng) -> Result<Chromosome, String> + Sync),
+    ) -> Result<Self, GalleryError> {
         options.check()?;
         let graph = models.graph();
         let centre = match &options.default_model {
@@ -278,9 +296,13 @@ impl Gallery {
             .into_par_iter()
             .map(|i| {
                 let mut rng = crate::rng::stream(options.seed, &[0x6761_6c6c, i as u64]);
-                crate::ops::uncontrolled(graph, &mut rng)
+                let m = draw(&mut rng).map_err(GalleryError::Sample)?;
+                m.validate(graph).map_err(|e| {
+                    GalleryError::Sample(format!("not a model of the generator: {e}"))
+                })?;
+                Ok(m)
             })
-            .collect::<Result<Vec<_>, _>>()?;
+            .collect::<Result<Vec<_>, GalleryError>>()?;
         Self::build("default model", models, centre, samples, options, progress)
     }
 
