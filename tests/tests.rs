@@ -8,6 +8,9 @@ mod cli;
 /// A user's own generator through the whole command line.
 #[cfg(feature = "cli")]
 mod custom_generator;
+/// Designing a pdf from preference scores: sessions and `shapegen design`.
+#[cfg(feature = "cli")]
+mod design;
 /// The macro's generated code against the run-time interpreter.
 mod express_props;
 /// Thumbnail galleries: the command, its files and clustering invariants.

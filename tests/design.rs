@@ -1,0 +1,252 @@
+//! Designing a pdf from the command line as a user does it: sample a batch,
+//! fill in scores, learn, look at the current pdf, export, then use the
+//! learned generator in a gallery and a run; and the errors a careless user meets.
+
+use std::path::Path;
+use std::process::Command;
+
+use shapegen::design::session::{Mode, Session, SessionError};
+use shapegen::design::tasks;
+use shapegen::graph::Graph;
+use shapegen::prelude::*;
+
+use crate::util::{json, temp};
+
+fn shapegen(dir: &Path, args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_shapegen"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn ok(dir: &Path, args: &[&str]) -> String {
+    let o = shapegen(dir, args);
+    assert!(
+        o.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn fails(dir: &Path, args: &[&str], says: &str) {
+    let o = shapegen(dir, args);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{args:?} should fail");
+    assert!(err.contains(says), "{args:?}: expected `{says}` in: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+/// Fills the batch's scores by the wing-pair task (scored from the session,
+/// which holds the batch's models).
+fn score_batch(dir: &Path, graph: &Graph) {
+    let scores = dir.join("design/batch/scores.json");
+    let mut file = json(&scores);
+    let session = json(&dir.join("design/session.json"));
+    let pending = session["pending"].as_array().unwrap();
+    for entry in file["models"].as_array_mut().unwrap() {
+        let id = entry["id"].as_u64().unwrap();
+        let data = pending
+            .iter()
+            .find(|p| p["id"].as_u64() == Some(id))
+            .unwrap();
+        let data: ChromosomeData = serde_json::from_value(data["model"].clone()).unwrap();
+        let m = Chromosome::from_data(graph, &data).unwrap();
+        entry["score"] = tasks::wing_pairs(graph, &m).into();
+    }
+    std::fs::write(&scores, serde_json::to_string(&file).unwrap()).unwrap();
+}
+
+#[test]
+fn a_design_session_from_the_command_line() {
+    let dir = temp("design", "session");
+    let experiment = shapegen::experiment::Experiment::builtin();
+    let graph = experiment.graph().clone();
+    fails(&dir, &["design", "learn"], "no session");
+    fails(
+        &dir,
+        &["design", "sample", "--mode", "current"],
+        "needs a learned preference",
+    );
+    ok(
+        &dir,
+        &["design", "sample", "--count", "24", "--thumbnail", "64"],
+    );
+    let batch = json(&dir.join("design/batch/scores.json"));
+    let models = batch["models"].as_array().unwrap();
+    assert_eq!(models.len(), 24);
+    for m in models {
+        assert!(m["score"].is_null() && m["predicted"].is_null());
+        let png = dir
+            .join("design/batch")
+            .join(m["thumbnail"].as_str().unwrap());
+        assert!(
+            std::fs::metadata(&png).unwrap().len() > 200,
+            "{}",
+            png.display()
+        );
+    }
+    let html = std::fs::read_to_string(dir.join("design/batch/index.html")).unwrap();
+    assert_eq!(html.matches("<img").count(), 24);
+    // Learning before any score is filled in is a clear error.
+    fails(&dir, &["design", "learn"], "no scored models");
+    score_batch(&dir, &graph);
+    let out = ok(&dir, &["design", "learn"]);
+    assert!(out.contains("24 scores added"), "{out}");
+    assert!(
+        out.contains("W"),
+        "the wing features should be named: {out}"
+    );
+    // A second round from the current pdf: predictions appear, and most
+    // models drawn have one or two wing pairs (the default pdf gives 43 %).
+    ok(
+        &dir,
+        &[
+            "design",
+            "sample",
+            "--mode",
+            "current",
+            "--count",
+            "24",
+            "--thumbnail",
+            "64",
+        ],
+    );
+    let batch = json(&dir.join("design/batch/scores.json"));
+    assert!(
+        batch["models"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .all(|m| m["predicted"].is_f64())
+    );
+    let session = Session::load(&dir.join("design/session.json"), "spaceship", &graph).unwrap();
+    let liked = session
+        .pending
+        .iter()
+        .filter(|p| {
+            tasks::wing_pairs(&graph, &Chromosome::from_data(&graph, &p.model).unwrap()) > 0.0
+        })
+        .count();
+    assert!(
+        liked >= 16,
+        "only {liked} of 24 current-pdf models have one or two wing pairs"
+    );
+    score_batch(&dir, &graph);
+    ok(&dir, &["design", "learn"]);
+    // Out-of-range scores are refused and nothing is saved.
+    let before = std::fs::read(dir.join("design/session.json")).unwrap();
+    ok(
+        &dir,
+        &["design", "sample", "--count", "4", "--thumbnail", "32"],
+    );
+    let scores = dir.join("design/batch/scores.json");
+    let mut file = json(&scores);
+    file["models"][0]["score"] = 140.0.into();
+    std::fs::write(&scores, serde_json::to_string(&file).unwrap()).unwrap();
+    let mid = std::fs::read(dir.join("design/session.json")).unwrap();
+    fails(&dir, &["design", "learn"], "outside 0..=100");
+    assert_eq!(std::fs::read(dir.join("design/session.json")).unwrap(), mid);
+    assert_ne!(before, mid, "the new batch was saved as pending");
+    // Export, then use the learned generator.
+    let out = ok(&dir, &["design", "export", "--training", "300"]);
+    assert!(out.contains("structure learned generator"), "{out}");
+    let learned = json(&dir.join("design/learned.json"));
+    assert!(learned["components"].as_array().unwrap().len() >= 1);
+    ok(
+        &dir,
+        &[
+            "gallery",
+            "--prior",
+            "design/learned.json",
+            "--samples",
+            "20",
+            "--clusters",
+            "4",
+            "--thumbnail",
+            "32",
+            "-q",
+            "--out",
+            "g",
+        ],
+    );
+    assert!(dir.join("g/gallery.png").exists());
+    let doc = json(&dir.join("g/gallery.json"));
+    assert_eq!(doc["models"].as_array().unwrap().len(), 21);
+    ok(
+        &dir,
+        &[
+            "run",
+            "--prior",
+            "design/learned.json",
+            "--generations",
+            "2",
+            "-q",
+            "--out",
+            "r",
+        ],
+    );
+    let best = json(&dir.join("r/best.json"));
+    let best: ChromosomeData = serde_json::from_value(best).unwrap();
+    Chromosome::from_data(&graph, &best).expect("a prior run's model is the generator's");
+    // A session file is not a learned generator.
+    fails(
+        &dir,
+        &[
+            "run",
+            "--prior",
+            "design/session.json",
+            "--generations",
+            "1",
+            "-q",
+            "--out",
+            "r2",
+        ],
+        "not a learned generator",
+    );
+}
+
+#[test]
+fn sessions_refuse_bad_scores_unknown_models_and_other_generators() {
+    let task = &tasks::scene_tasks()[0];
+    let g = &task.graph;
+    let mut s = Session::new("spaceship", g, 3);
+    assert!(matches!(
+        s.sample(g, Mode::Current, 4),
+        Err(SessionError::NotLearned("current"))
+    ));
+    let shown = s.sample(g, Mode::Default, 6).unwrap();
+    assert_eq!(s.pending.len(), 6);
+    assert!(matches!(
+        s.score(shown[0].id, -1.0),
+        Err(SessionError::ScoreRange { .. })
+    ));
+    assert!(matches!(
+        s.score(shown[0].id, f64::NAN),
+        Err(SessionError::ScoreRange { .. })
+    ));
+    assert!(matches!(
+        s.score(999, 50.0),
+        Err(SessionError::UnknownModel(999))
+    ));
+    s.score(shown[0].id, 80.0).unwrap();
+    s.score(shown[0].id, 60.0).unwrap(); // a correction
+    assert_eq!(s.factors[0].scored.len(), 1);
+    assert_eq!(s.factors[0].scored[0].score, 60.0);
+    // A file round trip, and another generator's graph refused.
+    let dir = temp("design", "roundtrip");
+    let path = dir.join("s.json");
+    s.save(&path).unwrap();
+    let back = Session::load(&path, "spaceship", g).unwrap();
+    assert_eq!(back.pending.len(), 5);
+    let tree = &tasks::scene_tasks()[2].graph;
+    assert!(matches!(
+        Session::load(&path, "tree_v2", tree),
+        Err(SessionError::ForeignGenerator { .. })
+    ));
+    // Scored mode shows the scored models with their scores, for corrections.
+    let again = s.sample(g, Mode::Scored, 10).unwrap();
+    assert_eq!(again.len(), 1);
+    assert_eq!(again[0].score, Some(60.0));
+}
