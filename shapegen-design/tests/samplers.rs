@@ -23,7 +23,7 @@ fn draw(g: &Graph, n: usize, seed: u64) -> Option<Vec<Chromosome>> {
 
 /// A preference that depends on structure: even gene counts are preferred.
 fn preference(m: &Chromosome) -> f64 {
-    if m.len() % 2 == 0 { 1.0 } else { 0.2 }
+    if m.len().is_multiple_of(2) { 1.0 } else { 0.2 }
 }
 
 proptest! {
