@@ -44,9 +44,12 @@ fn main() -> Result<(), Box<dyn Error>> {
                 p.scored, p.gpr, p.kde, p.kde_bandwidth
             );
         }
+        for (n, js) in &r.active {
+            println!("    interactive n = {n:4}: GPR {js:.4}");
+        }
         println!(
-            "    JS <= 0.01: GPR after {:?}, KDE after {:?}",
-            r.gpr_reaches_001, r.kde_reaches_001
+            "    JS <= 0.01: GPR after {:?}, KDE after {:?}, interactive GPR after {:?}",
+            r.gpr_reaches_001, r.kde_reaches_001, r.active_reaches_001
         );
         reports.push(r);
     }

@@ -17,6 +17,9 @@
 //!    of the pdf that GPR learns (weights `û(m)`) and of Talton et al.'s
 //!    score-weighted kernel density estimate (with the best of several
 //!    bandwidths chosen in hindsight, which favours it).
+//! 4. *Interactive sampling* (the thesis's interface): GPR on models chosen
+//!    as a user of the interface would see them, half from the current pdf
+//!    and half from the complementary pdf, refitted after every batch.
 
 use rand::SeedableRng;
 use rayon::prelude::*;
@@ -133,6 +136,12 @@ pub struct EvalReport {
     pub curve: Vec<CurvePoint>,
     /// Fewest scored models at which GPR's JS divergence is at most 0.01 (on the curve).
     pub gpr_reaches_001: Option<usize>,
+    /// GPR with the thesis's interactive sampling: a first batch of 24 from
+    /// the default pdf, then batches of 12 from the current pdf and 12 from
+    /// the complementary pdf, refitted after each (scored models, JS).
+    pub active: Vec<(usize, f64)>,
+    /// Fewest scored models at which the interactive GPR reaches JS 0.01.
+    pub active_reaches_001: Option<usize>,
     /// The same for the KDE.
     pub kde_reaches_001: Option<usize>,
 }
@@ -248,6 +257,44 @@ pub fn evaluate(task: &Task, options: &EvalOptions) -> Result<EvalReport, Design
             kde_bandwidth,
         });
     }
+    // Interactive sampling, as a user of the interface scores.
+    let mut active = Vec::new();
+    let mut models = draw(g, 24.min(max_scored), options.seed, 4)?;
+    let mut round = 0u64;
+    while models.len() <= max_scored {
+        let pref = fit_preference(task, &models, options.factor)?;
+        if options.scored.contains(&models.len()) {
+            let q: Vec<f64> = eval.par_iter().map(|m| pref.value(g, m)).collect();
+            active.push((models.len(), js(&q)));
+        }
+        if models.len() + 24 > max_scored {
+            break;
+        }
+        round += 1;
+        let mut rng = stream(options.seed, &[5, round]);
+        for complementary in [false, true] {
+            let u = |m: &Chromosome| {
+                let v = pref.value(g, m);
+                if complementary { 1.0 - v } else { v }
+            };
+            // A preference still 0 almost everywhere has no current pdf to
+            // sample: the user is shown default samples instead.
+            match RejectionSampler::new(g, &u, 200, &mut rng) {
+                Ok(mut sampler) => {
+                    for _ in 0..12 {
+                        models.push(sampler.sample(&mut rng)?);
+                    }
+                }
+                Err(DesignError::NoMass(_)) => {
+                    for _ in 0..12 {
+                        models.push(uncontrolled(g, &mut rng)?);
+                    }
+                }
+                Err(e) => return Err(e),
+            }
+        }
+    }
+    let active_reaches_001 = active.iter().find(|p| p.1 <= 0.01).map(|p| p.0);
     let reaches = |f: fn(&CurvePoint) -> f64| curve.iter().find(|p| f(p) <= 0.01).map(|p| p.scored);
     Ok(EvalReport {
         task: task.name.clone(),
@@ -262,5 +309,7 @@ pub fn evaluate(task: &Task, options: &EvalOptions) -> Result<EvalReport, Design
         gpr_reaches_001: reaches(|p| p.gpr),
         kde_reaches_001: reaches(|p| p.kde),
         curve,
+        active,
+        active_reaches_001,
     })
 }

@@ -83,6 +83,10 @@ pub enum DesignError {
     /// The kernel matrix could not be factorized.
     #[error("the kernel matrix is not positive definite (raise the noise term)")]
     NotPositiveDefinite,
+    /// The preference is 0 on every probe model: the pdf it defines has
+    /// (almost) no mass where the generator samples.
+    #[error("the preference is 0 on all {0} probe models: the pdf it defines has nothing to sample (score some models above 0, or sample from the default pdf)")]
+    NoMass(usize),
     /// Rejection sampling accepted nothing within its proposal budget.
     #[error(
         "rejection sampling accepted no model in {0} proposals: the preference is (almost) 0 everywhere the generator samples"

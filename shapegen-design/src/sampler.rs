@@ -49,6 +49,8 @@ pub struct RejectionSampler<'a> {
 impl<'a> RejectionSampler<'a> {
     /// A sampler for `graph` reweighted by `preference` (values in `[0, 1]`;
     /// outside values are clamped), with `M` estimated from `probe` proposals.
+    /// Fails with [`DesignError::NoMass`] if the preference is 0 on every
+    /// probe: the reweighted pdf has (almost) nothing to sample.
     pub fn new<R: Rng + ?Sized>(
         graph: &'a Graph,
         preference: &'a (dyn Fn(&Chromosome) -> f64 + Sync),
@@ -59,6 +61,9 @@ impl<'a> RejectionSampler<'a> {
         for _ in 0..probe {
             let m = uncontrolled(graph, rng)?;
             bound = bound.max(preference(&m).clamp(0.0, 1.0));
+        }
+        if bound <= 0.0 && probe > 0 {
+            return Err(DesignError::NoMass(probe));
         }
         Ok(Self {
             graph,
