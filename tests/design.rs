@@ -250,3 +250,36 @@ fn sessions_refuse_bad_scores_unknown_models_and_other_generators() {
     assert_eq!(again.len(), 1);
     assert_eq!(again[0].score, Some(60.0));
 }
+
+#[test]
+fn the_evaluation_command_writes_its_table_and_curves() {
+    let dir = temp("design", "evaluate");
+    let out = ok(
+        &dir,
+        &[
+            "design",
+            "evaluate",
+            "--quick",
+            "--tasks",
+            "toy-colour",
+            "-q",
+            "--out",
+            "e",
+        ],
+    );
+    assert!(out.contains("| toy-colour |"), "{out}");
+    let doc = json(&dir.join("e/evaluation.json"));
+    let r = &doc[0];
+    // Structure learning beats the default pdf on the toy's colour task.
+    assert!(r["js_structure"].as_f64().unwrap() < r["js_default"].as_f64().unwrap());
+    let png = image::open(dir.join("e/curves.png")).unwrap().to_rgb8();
+    assert!(
+        png.width() >= 640 && png.pixels().any(|p| p.0 == [214, 39, 40]),
+        "the GPR curve is drawn"
+    );
+    fails(
+        &dir,
+        &["design", "evaluate", "--tasks", "nope"],
+        "unknown task `nope`",
+    );
+}

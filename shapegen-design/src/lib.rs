@@ -85,7 +85,9 @@ pub enum DesignError {
     NotPositiveDefinite,
     /// The preference is 0 on every probe model: the pdf it defines has
     /// (almost) no mass where the generator samples.
-    #[error("the preference is 0 on all {0} probe models: the pdf it defines has nothing to sample (score some models above 0, or sample from the default pdf)")]
+    #[error(
+        "the preference is 0 on all {0} probe models: the pdf it defines has nothing to sample (score some models above 0, or sample from the default pdf)"
+    )]
     NoMass(usize),
     /// Rejection sampling accepted nothing within its proposal budget.
     #[error(

@@ -42,6 +42,31 @@ pub enum DesignCommand {
     Learn(DesignLearnArgs),
     /// Fits a learned generator to the preference and writes it (learned.json) for `gallery --prior` and `run --prior`.
     Export(DesignExportArgs),
+    /// The thesis's evaluation (§4.7) on built-in design tasks played by a program: evaluation.json, table.md, curves.png.
+    Evaluate(DesignEvaluateArgs),
+}
+
+/// `shapegen design evaluate`.
+#[derive(Debug, clap::Args)]
+pub struct DesignEvaluateArgs {
+    /// Tasks to run, comma-separated (toy-colour, toy-2f, S1, S2, T1, C1); default: all.
+    #[arg(long, value_delimiter = ',')]
+    pub tasks: Vec<String>,
+    /// Smaller sets (1,000 evaluation models, 500 training, up to 96 scored): a quick look, not the reported numbers.
+    #[arg(long)]
+    pub quick: bool,
+    /// Seed of every random stream.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Output directory.
+    #[arg(long, default_value = "design/evaluation")]
+    pub out: PathBuf,
+    /// No progress lines.
+    #[arg(long, short)]
+    pub quiet: bool,
 }
 
 /// The session file of `shapegen design`.

@@ -1,5 +1,6 @@
 //! `shapegen design sample | learn | export`: a pdf design session from the
-//! command line (see [`crate::design::session`]).
+//! command line (see [`crate::design::session`]); `shapegen design evaluate`:
+//! the thesis's evaluation on built-in tasks.
 
 use std::path::Path;
 
@@ -7,7 +8,8 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::args::{
-    DesignCommand, DesignExportArgs, DesignLearnArgs, DesignSampleArgs, SamplerArg, SessionArgs,
+    DesignCommand, DesignEvaluateArgs, DesignExportArgs, DesignLearnArgs, DesignSampleArgs,
+    SamplerArg, SessionArgs,
 };
 use super::{Cli, CliError, guard, thread_pool};
 use crate::design::session::{Session, Shown};
@@ -50,6 +52,7 @@ pub(super) fn design(cli: &Cli, command: DesignCommand) -> Result<(), CliError> 
         DesignCommand::Sample(a) => sample(cli, &a),
         DesignCommand::Learn(a) => learn(cli, &a),
         DesignCommand::Export(a) => export(cli, &a),
+        DesignCommand::Evaluate(a) => evaluate(&a),
     }
 }
 
@@ -331,4 +334,154 @@ fn export(cli: &Cli, args: &DesignExportArgs) -> Result<(), CliError> {
         args.out.display()
     );
     Ok(())
+}
+
+fn evaluate(args: &DesignEvaluateArgs) -> Result<(), CliError> {
+    use crate::design::evaluation::{EvalOptions, EvalReport, evaluate};
+    use std::fmt::Write as _;
+    let all = crate::design::tasks::all();
+    if let Some(unknown) = args
+        .tasks
+        .iter()
+        .find(|t| !all.iter().any(|a| &a.name == *t))
+    {
+        let names: Vec<&str> = all.iter().map(|t| t.name.as_str()).collect();
+        return Err(CliError::msg(format!(
+            "unknown task `{unknown}`: choose from {}",
+            names.join(", ")
+        )));
+    }
+    let tasks: Vec<_> = all
+        .into_iter()
+        .filter(|t| args.tasks.is_empty() || args.tasks.contains(&t.name))
+        .collect();
+    let mut options = EvalOptions {
+        seed: args.seed,
+        ..EvalOptions::default()
+    };
+    if args.quick {
+        options.eval_set = 1000;
+        options.training = 500;
+        options.fit_models = 96;
+        options.scored = vec![12, 24, 48, 96];
+    }
+    guard::check_output_dir(&args.out)?;
+    let pool = thread_pool(args.threads)?;
+    let mut reports: Vec<EvalReport> = Vec::new();
+    for task in &tasks {
+        let start = std::time::Instant::now();
+        let r = pool
+            .install(|| evaluate(task, &options))
+            .map_err(|e| CliError::msg(format!("task {}: {e}", task.name)))?;
+        if !args.quiet {
+            eprintln!(
+                "{:10} JS default {:.4}, parameter {:.4}, structure {:.4}; GPR reaches 0.01 after {}, KDE after {}, interactive GPR after {} scored models ({:.0} s)",
+                r.task,
+                r.js_default,
+                r.js_parameter,
+                r.js_structure,
+                reach(r.gpr_reaches_001),
+                reach(r.kde_reaches_001),
+                reach(r.active_reaches_001),
+                start.elapsed().as_secs_f64()
+            );
+        }
+        reports.push(r);
+    }
+    let mut table = String::new();
+    let _ = writeln!(
+        table,
+        "| task | preference | default | parameter learning | structure learning | K | split nodes |"
+    );
+    let _ = writeln!(table, "|---|---|---|---|---|---|---|");
+    for r in &reports {
+        let _ = writeln!(
+            table,
+            "| {} | {} | {:.4} | {:.4} | {:.4} | {} | {} |",
+            r.task,
+            r.description,
+            r.js_default,
+            r.js_parameter,
+            r.js_structure,
+            r.components,
+            r.structure.split_nodes.join(", ")
+        );
+    }
+    let _ = writeln!(table);
+    let _ = writeln!(
+        table,
+        "| task | GPR reaches JS 0.01 after | KDE (best bandwidth) after | interactive GPR after | GPR / KDE / interactive at the largest n |"
+    );
+    let _ = writeln!(table, "|---|---|---|---|---|");
+    for r in &reports {
+        let last = r.curve.last();
+        let _ = writeln!(
+            table,
+            "| {} | {} | {} | {} | {} |",
+            r.task,
+            reach(r.gpr_reaches_001),
+            reach(r.kde_reaches_001),
+            reach(r.active_reaches_001),
+            last.map_or(String::new(), |p| format!(
+                "{:.4} / {:.4} / {} (n = {})",
+                p.gpr,
+                p.kde,
+                r.active
+                    .last()
+                    .map_or("-".into(), |a| format!("{:.4}", a.1)),
+                p.scored
+            ))
+        );
+    }
+    let panels: Vec<super::plot::Panel> = reports
+        .iter()
+        .map(|r| super::plot::Panel {
+            title: format!("{} {}", r.task, r.description),
+            lines: vec![
+                (
+                    "GPR".into(),
+                    r.curve.iter().map(|p| (p.scored as f64, p.gpr)).collect(),
+                ),
+                (
+                    "weighted KDE (best h)".into(),
+                    r.curve.iter().map(|p| (p.scored as f64, p.kde)).collect(),
+                ),
+                (
+                    "GPR, interactive".into(),
+                    r.active.iter().map(|p| (p.0 as f64, p.1)).collect(),
+                ),
+            ],
+            levels: vec![
+                ("default".into(), r.js_default),
+                ("parameter l.".into(), r.js_parameter),
+                ("structure l.".into(), r.js_structure),
+            ],
+        })
+        .collect();
+    let png = args.out.join("curves.png");
+    guard::writing(|| -> Result<(), CliError> {
+        crate::output::write_json(&args.out.join("evaluation.json"), &reports)?;
+        crate::score::write_atomically(&args.out.join("table.md"), table.as_bytes())?;
+        if let Some(w) = super::plot::panels(
+            &png,
+            "scored models",
+            "JS divergence to the target",
+            2,
+            1e-4,
+            &panels,
+        )? {
+            eprintln!("shapegen: warning: {w}");
+        }
+        Ok(())
+    })?;
+    print!("{table}");
+    println!(
+        "wrote evaluation.json, table.md and curves.png to {}",
+        args.out.display()
+    );
+    Ok(())
+}
+
+fn reach(n: Option<usize>) -> String {
+    n.map_or("not within the curve".into(), |n| n.to_string())
 }

@@ -218,6 +218,133 @@ pub fn labelled_row(
     }))
 }
 
+/// Colours of a panel's levels: grey, purple, orange.
+const LEVELS: [RGBColor; 3] = [
+    RGBColor(90, 90, 90),
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+];
+
+/// One panel of [`panels`]: lines over a log-scaled y axis and levels.
+#[derive(Clone, Debug)]
+pub struct Panel {
+    /// Its title.
+    pub title: String,
+    /// Lines: a name and `(x, y)` points.
+    pub lines: Vec<(String, Vec<(f64, f64)>)>,
+    /// Horizontal levels: a name and a value.
+    pub levels: Vec<(String, f64)>,
+}
+
+/// Draws panels in a grid of `columns`, each with a log y axis from
+/// `y_min` to 1 (values below are drawn at `y_min`). Returns a warning if
+/// no font was found, as [`curves`] does.
+pub fn panels(
+    path: &Path,
+    x_desc: &str,
+    y_desc: &str,
+    columns: usize,
+    y_min: f64,
+    panels: &[Panel],
+) -> Result<Option<String>, CliError> {
+    let text = font();
+    draw_panels(path, x_desc, y_desc, columns, y_min, panels, text)
+        .map_err(|e| CliError::msg(format!("cannot draw {}: {e}", path.display())))?;
+    Ok((!text).then(|| {
+        format!(
+            "no TrueType font found (set SHAPEGEN_FONT): {} has no text",
+            path.display()
+        )
+    }))
+}
+
+fn draw_panels(
+    path: &Path,
+    x_desc: &str,
+    y_desc: &str,
+    columns: usize,
+    y_min: f64,
+    panels: &[Panel],
+    text: bool,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let columns = columns.max(1);
+    let rows = panels.len().div_ceil(columns).max(1);
+    let (pw, ph) = (640u32, 400u32);
+    let root =
+        BitMapBackend::new(path, (pw * columns as u32, ph * rows as u32)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let areas = root.split_evenly((rows, columns));
+    let x_max = panels
+        .iter()
+        .flat_map(|p| p.lines.iter().flat_map(|l| l.1.iter().map(|q| q.0)))
+        .fold(1.0f64, f64::max);
+    for (panel, area) in panels.iter().zip(areas) {
+        let mut builder = ChartBuilder::on(&area);
+        builder.margin(10);
+        if text {
+            builder
+                .caption(&panel.title, ("sans-serif", 14))
+                .x_label_area_size(36)
+                .y_label_area_size(52);
+        }
+        let mut chart =
+            builder.build_cartesian_2d(0f64..x_max * 1.02, (y_min..1.0f64).log_scale())?;
+        if text {
+            chart
+                .configure_mesh()
+                .x_desc(x_desc)
+                .y_desc(y_desc)
+                .x_label_formatter(&|x| format!("{x:.0}"))
+                .light_line_style(WHITE.mix(0.0))
+                .draw()?;
+        } else {
+            chart.configure_mesh().disable_axes().draw()?;
+        }
+        let clamp = |y: f64| y.clamp(y_min, 1.0);
+        for (i, (name, value)) in panel.levels.iter().enumerate() {
+            let colour = LEVELS[i % LEVELS.len()];
+            let line = chart.draw_series(DashedLineSeries::new(
+                [(0.0, clamp(*value)), (x_max * 1.02, clamp(*value))],
+                6,
+                4,
+                colour.stroke_width(1),
+            ))?;
+            if text {
+                line.label(format!("{name} {value:.4}"))
+                    .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], colour));
+            }
+        }
+        for (i, (name, points)) in panel.lines.iter().enumerate() {
+            let colour = COLOURS[i % COLOURS.len()];
+            chart.draw_series(
+                points
+                    .iter()
+                    .map(|&(x, y)| Circle::new((x, clamp(y)), 3, colour.filled())),
+            )?;
+            let line = chart.draw_series(LineSeries::new(
+                points.iter().map(|&(x, y)| (x, clamp(y))),
+                colour.stroke_width(2),
+            ))?;
+            if text {
+                line.label(name.clone()).legend(move |(x, y)| {
+                    PathElement::new([(x, y), (x + 20, y)], colour.stroke_width(2))
+                });
+            }
+        }
+        if text {
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::LowerLeft)
+                .label_font(("sans-serif", 12))
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK.mix(0.3))
+                .draw()?;
+        }
+    }
+    root.present()?;
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -242,6 +369,27 @@ mod tests {
             let img = image::open(&path).unwrap().to_rgb8();
             assert_eq!(img.dimensions(), (1000, 620));
             // The GA's red line is drawn.
+            assert!(img.pixels().any(|p| p.0 == [214, 39, 40]));
+        }
+        let panel = Panel {
+            title: "t".into(),
+            lines: vec![("gpr".into(), vec![(10.0, 0.5), (100.0, 0.001)])],
+            levels: vec![("default".into(), 0.3)],
+        };
+        for text in [false, font()] {
+            let path = dir.join(format!("panels-{text}.png"));
+            draw_panels(
+                &path,
+                "x",
+                "y",
+                2,
+                1e-4,
+                &[panel.clone(), panel.clone(), panel.clone()],
+                text,
+            )
+            .unwrap();
+            let img = image::open(&path).unwrap().to_rgb8();
+            assert_eq!(img.dimensions(), (1280, 800));
             assert!(img.pixels().any(|p| p.0 == [214, 39, 40]));
         }
         std::fs::remove_dir_all(&dir).unwrap();
