@@ -1,49 +1,12 @@
-//! The thesis's toy grammar (Fig. 4.2): two stacked masses, each with a
-//! height, one of three meshes and one of three colours; and its design
-//! tasks, played by a program.
+//! Learning preferences on small grammars: the thesis's toy grammar
+//! (Fig. 4.2) and its colour task, and a chain whose task needs longer paths.
 
 use rand::SeedableRng;
 use rand_pcg::Pcg64;
 use shapegen_core::prelude::*;
 use shapegen_design::preference::RELEVANCE;
+use shapegen_design::toy::{graph as toy, masses, same_colour};
 use shapegen_design::*;
-
-fn toy() -> Graph {
-    GraphBuilder::new("toy")
-        .start("Stack")
-        .node("Stack", |n| {
-            n.slot("bottom", "Mass", 1.0).slot("top", "Mass", 1.0)
-        })
-        .node("Mass", |n| {
-            n.emits()
-                .param_f32("h", Dist::uniform(1.0, 5.0))
-                .param_choice("mesh", vec![1.0, 1.0, 1.0])
-                .param_choice("colour", vec![1.0, 1.0, 1.0])
-        })
-        .build()
-        .unwrap()
-}
-
-/// (mesh, colour) of the bottom and top masses.
-fn masses(g: &Graph, m: &Chromosome) -> [(u32, u32); 2] {
-    let root = m.root_gene(g);
-    let at = |slot| {
-        let gene = m.gene(g, root.child(slot).unwrap());
-        (gene.param_choice(1), gene.param_choice(2))
-    };
-    [at(0), at(1)]
-}
-
-/// The thesis's colour task: both masses brown (colour 0) 100, both blue or
-/// both turquoise 50, mixed colours 0.
-fn same_colour(g: &Graph, m: &Chromosome) -> f64 {
-    let [a, b] = masses(g, m);
-    match (a.1, b.1) {
-        (0, 0) => 100.0,
-        (x, y) if x == y => 50.0,
-        _ => 0.0,
-    }
-}
 
 fn sample(g: &Graph, n: usize, seed: u64) -> Vec<Chromosome> {
     let mut rng = Pcg64::seed_from_u64(seed);
@@ -67,22 +30,21 @@ fn ard_drops_the_heights() {
         .filter(|(k, _)| matches!(k, FeatureKey::Param { .. }))
         .map(|(_, &w)| w)
         .collect();
-    eprintln!("heights {height:?}\ntop {:?}", f.top_features(&g, 10));
     assert!(!height.is_empty());
-    assert!(
-        height.iter().all(|&w| w < RELEVANCE),
-        "height weights {height:?}; top {:?}",
-        f.top_features(&g, 8)
-    );
+    // The largest weights are the colours'; the heights' are below the
+    // relevance threshold (a fraction of the largest), so structure
+    // learning would not split for them.
+    let max = w.iter().copied().fold(0.0, f64::max);
     let colour_max = keys
         .iter()
         .zip(w)
         .filter(|(k, _)| k.describe(&g).contains("colour"))
         .map(|(_, &w)| w)
         .fold(0.0, f64::max);
+    assert_eq!(colour_max, max, "top {:?}", f.top_features(&g, 8));
     assert!(
-        colour_max > 10.0 * RELEVANCE,
-        "top {:?}",
+        height.iter().all(|&w| w < RELEVANCE * max),
+        "height weights {height:?}; top {:?}",
         f.top_features(&g, 8)
     );
     // Two turquoise boxes at every height: predictions stay close together.
@@ -110,4 +72,38 @@ fn ard_drops_the_heights() {
         (lo - 50.0).abs() < 15.0,
         "two turquoise boxes should score about 50: {preds:?}"
     );
+}
+
+/// `k` grows when paths of effective length 1 cannot tell apart models
+/// with very different scores: in a chain of beads, "the second bead is red"
+/// needs the path `Root.first>Bead.next>Bead(colour=red)`, of effective
+/// length 2 (the first slot is certain).
+#[test]
+fn path_length_grows_until_the_features_separate_the_scores() {
+    let g = GraphBuilder::new("beads")
+        .start("Root")
+        .limits(Limits { max_depth: Some(3), min_len: 1, max_len: None })
+        .node("Root", |n| n.slot("first", "Bead", 1.0))
+        .node("Bead", |n| n.param_choice("colour", vec![1.0, 1.0]).slot("next", "Bead", 0.8))
+        .build()
+        .unwrap();
+    let models = sample(&g, 80, 4);
+    let bead = g.node_id("Bead").unwrap();
+    let second_red = |m: &Chromosome| {
+        let first = m.gene(&g, m.root_gene(&g).child(0).unwrap());
+        first.child(0).is_some_and(|p| {
+            let b = m.gene(&g, p);
+            b.node() == bead && b.param_choice(0) == 0
+        })
+    };
+    let scores: Vec<f64> = models.iter().map(|m| if second_red(m) { 100.0 } else { 0.0 }).collect();
+    let f = Factor::fit("second", &g, &models, &scores, FactorOptions::default()).unwrap();
+    assert!(f.space.options().path_length >= 2, "k stayed at {}", f.space.options().path_length);
+    // With k fixed at 1 the features cannot separate them; with the grown k the fit can.
+    let fixed = FactorOptions { max_path_length: 1, ..FactorOptions::default() };
+    let f1 = Factor::fit("second", &g, &models, &scores, fixed).unwrap();
+    let err = |f: &Factor| -> f64 {
+        models.iter().zip(&scores).map(|(m, s)| (f.predict(&g, m).0 - s).abs()).sum::<f64>() / models.len() as f64
+    };
+    assert!(err(&f) < 0.5 * err(&f1), "grown k: {:.1}, k = 1: {:.1}", err(&f), err(&f1));
 }
