@@ -82,9 +82,16 @@ fn ard_drops_the_heights() {
 fn path_length_grows_until_the_features_separate_the_scores() {
     let g = GraphBuilder::new("beads")
         .start("Root")
-        .limits(Limits { max_depth: Some(3), min_len: 1, max_len: None })
+        .limits(Limits {
+            max_depth: Some(3),
+            min_len: 1,
+            max_len: None,
+        })
         .node("Root", |n| n.slot("first", "Bead", 1.0))
-        .node("Bead", |n| n.param_choice("colour", vec![1.0, 1.0]).slot("next", "Bead", 0.8))
+        .node("Bead", |n| {
+            n.param_choice("colour", vec![1.0, 1.0])
+                .slot("next", "Bead", 0.8)
+        })
         .build()
         .unwrap();
     let models = sample(&g, 80, 4);
@@ -96,14 +103,34 @@ fn path_length_grows_until_the_features_separate_the_scores() {
             b.node() == bead && b.param_choice(0) == 0
         })
     };
-    let scores: Vec<f64> = models.iter().map(|m| if second_red(m) { 100.0 } else { 0.0 }).collect();
+    let scores: Vec<f64> = models
+        .iter()
+        .map(|m| if second_red(m) { 100.0 } else { 0.0 })
+        .collect();
     let f = Factor::fit("second", &g, &models, &scores, FactorOptions::default()).unwrap();
-    assert!(f.space.options().path_length >= 2, "k stayed at {}", f.space.options().path_length);
+    assert!(
+        f.space.options().path_length >= 2,
+        "k stayed at {}",
+        f.space.options().path_length
+    );
     // With k fixed at 1 the features cannot separate them; with the grown k the fit can.
-    let fixed = FactorOptions { max_path_length: 1, ..FactorOptions::default() };
+    let fixed = FactorOptions {
+        max_path_length: 1,
+        ..FactorOptions::default()
+    };
     let f1 = Factor::fit("second", &g, &models, &scores, fixed).unwrap();
     let err = |f: &Factor| -> f64 {
-        models.iter().zip(&scores).map(|(m, s)| (f.predict(&g, m).0 - s).abs()).sum::<f64>() / models.len() as f64
+        models
+            .iter()
+            .zip(&scores)
+            .map(|(m, s)| (f.predict(&g, m).0 - s).abs())
+            .sum::<f64>()
+            / models.len() as f64
     };
-    assert!(err(&f) < 0.5 * err(&f1), "grown k: {:.1}, k = 1: {:.1}", err(&f), err(&f1));
+    assert!(
+        err(&f) < 0.5 * err(&f1),
+        "grown k: {:.1}, k = 1: {:.1}",
+        err(&f),
+        err(&f1)
+    );
 }
