@@ -229,6 +229,8 @@ pub struct Experiment {
     methods: BTreeMap<Method, MethodConfig>,
     warnings: Vec<String>,
     problem: Box<dyn Problem>,
+    /// The learned prior in use ([`Experiment::use_prior`]), if any.
+    prior: Option<PathBuf>,
 }
 
 impl fmt::Debug for Experiment {
@@ -432,7 +434,14 @@ impl Experiment {
             })?;
         self.problem.set_graph(graph);
         self.inputs.push(path.to_path_buf());
+        self.prior = Some(path.to_path_buf());
         Ok(())
+    }
+
+    /// The learned prior file in use, if any.
+    #[must_use]
+    pub fn prior(&self) -> Option<&Path> {
+        self.prior.as_deref()
     }
 
     /// The configuration of `method` (the paper's spaceship presets if the

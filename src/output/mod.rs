@@ -99,6 +99,9 @@ pub struct Summary {
     pub threads: usize,
     /// Whether the run was resumed from a checkpoint.
     pub resumed: bool,
+    /// The learned prior the run grew models with (`run --prior`), if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub prior: Option<String>,
 }
 
 impl Summary {
@@ -125,6 +128,7 @@ impl Summary {
             stop: result.stop,
             threads: 0,
             resumed: false,
+            prior: experiment.prior().map(|p| p.display().to_string()),
         }
     }
 }

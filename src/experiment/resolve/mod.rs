@@ -142,6 +142,7 @@ pub(super) fn experiment(
         methods,
         warnings,
         problem,
+        prior: None,
     };
     if let Some(w) = unseen(&experiment) {
         experiment.warnings.push(w);
