@@ -187,7 +187,10 @@ fn a_design_session_from_the_command_line() {
             "r",
         ],
     );
-    assert_eq!(json(&dir.join("r/summary.json"))["prior"], "design/learned.json");
+    assert_eq!(
+        json(&dir.join("r/summary.json"))["prior"],
+        "design/learned.json"
+    );
     let best = json(&dir.join("r/best.json"));
     let best: ChromosomeData = serde_json::from_value(best).unwrap();
     Chromosome::from_data(&graph, &best).expect("a prior run's model is the generator's");
