@@ -55,6 +55,9 @@ pub struct DesignEvaluateArgs {
     /// Smaller sets (1,000 evaluation models, 500 training, up to 96 scored): a quick look, not the reported numbers.
     #[arg(long)]
     pub quick: bool,
+    /// The numbers of scored models on the learning curves, comma-separated (default 12,24,48,96,144,192,288,384).
+    #[arg(long, value_delimiter = ',')]
+    pub scored: Vec<usize>,
     /// Seed of every random stream.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,

@@ -365,6 +365,17 @@ fn evaluate(args: &DesignEvaluateArgs) -> Result<(), CliError> {
         options.fit_models = 96;
         options.scored = vec![12, 24, 48, 96];
     }
+    if !args.scored.is_empty() {
+        if let Some(&bad) = args.scored.iter().find(|&&n| n == 0 || n > 5000) {
+            return Err(CliError::msg(format!(
+                "--scored takes 1 to 5000 models, got {bad}"
+            )));
+        }
+        let mut scored = args.scored.clone();
+        scored.sort_unstable();
+        scored.dedup();
+        options.scored = scored;
+    }
     guard::check_output_dir(&args.out)?;
     let pool = thread_pool(args.threads)?;
     let mut reports: Vec<EvalReport> = Vec::new();
