@@ -177,20 +177,22 @@ struct StoredSpace {
 
 impl From<StoredSpace> for FeatureSpace {
     fn from(s: StoredSpace) -> Self {
-        let index = s
-            .keys
-            .iter()
-            .cloned()
-            .enumerate()
-            .map(|(i, k)| (k, i))
-            .collect();
         Self {
+            index: index_of(&s.keys),
             options: s.options,
             keys: s.keys,
             scale: s.scale,
-            index,
         }
     }
+}
+
+/// Each key's position.
+fn index_of(keys: &[FeatureKey]) -> HashMap<FeatureKey, usize> {
+    keys.iter()
+        .cloned()
+        .enumerate()
+        .map(|(i, k)| (k, i))
+        .collect()
 }
 
 impl From<FeatureSpace> for StoredSpace {
@@ -245,12 +247,7 @@ impl FeatureSpace {
         seen.sort_by(|a, b| format!("{a:?}").cmp(&format!("{b:?}")));
         seen.dedup();
         keys.extend(seen);
-        let index: HashMap<FeatureKey, usize> = keys
-            .iter()
-            .cloned()
-            .enumerate()
-            .map(|(i, k)| (k, i))
-            .collect();
+        let index = index_of(&keys);
         let mut scale = vec![0.0f64; keys.len()];
         for r in &raw {
             for (k, v) in r {
@@ -262,20 +259,11 @@ impl FeatureSpace {
         // Features that are 0 on every model (a recursion level never
         // reached, a node never derived) cannot tell models apart: dropped.
         let kept: Vec<usize> = (0..keys.len()).filter(|&i| scale[i] > 0.0).collect();
-        let keys: Vec<FeatureKey> = kept.iter().map(|&i| keys[i].clone()).collect();
-        let scale: Vec<f64> = kept.iter().map(|&i| scale[i]).collect();
-        let index: HashMap<FeatureKey, usize> = keys
-            .iter()
-            .cloned()
-            .enumerate()
-            .map(|(i, k)| (k, i))
-            .collect();
-        Self {
+        Self::from(StoredSpace {
             options,
-            keys,
-            scale,
-            index,
-        }
+            keys: kept.iter().map(|&i| keys[i].clone()).collect(),
+            scale: kept.iter().map(|&i| scale[i]).collect(),
+        })
     }
 
     /// The options it was fitted with.

@@ -64,9 +64,19 @@ pub fn curves(
     optimum: Option<f64>,
     series: &[Series],
 ) -> Result<Option<String>, CliError> {
+    with_font(path, |text| {
+        draw(path, title, seconds, optimum, series, text)
+    })
+}
+
+/// Runs `draw` with whether a font was found, and turns its error into a
+/// [`CliError`]; returns a warning if the picture has no text.
+fn with_font(
+    path: &Path,
+    draw: impl FnOnce(bool) -> Result<(), Box<dyn std::error::Error>>,
+) -> Result<Option<String>, CliError> {
     let text = font();
-    draw(path, title, seconds, optimum, series, text)
-        .map_err(|e| CliError::msg(format!("cannot draw {}: {e}", path.display())))?;
+    draw(text).map_err(|e| CliError::msg(format!("cannot draw {}: {e}", path.display())))?;
     Ok((!text).then(|| {
         format!(
             "no TrueType font found (set SHAPEGEN_FONT): {} has no text",
@@ -247,15 +257,9 @@ pub fn panels(
     y_min: f64,
     panels: &[Panel],
 ) -> Result<Option<String>, CliError> {
-    let text = font();
-    draw_panels(path, x_desc, y_desc, columns, y_min, panels, text)
-        .map_err(|e| CliError::msg(format!("cannot draw {}: {e}", path.display())))?;
-    Ok((!text).then(|| {
-        format!(
-            "no TrueType font found (set SHAPEGEN_FONT): {} has no text",
-            path.display()
-        )
-    }))
+    with_font(path, |text| {
+        draw_panels(path, x_desc, y_desc, columns, y_min, panels, text)
+    })
 }
 
 fn draw_panels(
