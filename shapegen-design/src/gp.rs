@@ -36,6 +36,14 @@ pub struct GpOptions {
     pub lasso: f64,
     /// Most L-BFGS iterations of the hyperparameter search.
     pub max_iters: u64,
+    /// Searches from this many starting points (feature weights `2/D`,
+    /// then 10× smaller, then 10× larger); the lowest energy wins.
+    #[serde(default = "one")]
+    pub restarts: usize,
+}
+
+fn one() -> usize {
+    1
 }
 
 impl Default for GpOptions {
@@ -45,9 +53,12 @@ impl Default for GpOptions {
             noise: 0.01,
             lasso: 0.1,
             max_iters: 100,
+            restarts: RESTARTS_DEFAULT,
         }
     }
 }
+
+const RESTARTS_DEFAULT: usize = 1;
 
 /// A fitted Gaussian process: training inputs, hyperparameters and the
 /// factorization that predictions reuse.
@@ -278,44 +289,56 @@ impl Gp {
         }
         let y: Vec<f64> = scores.iter().map(|s| s / 100.0).collect();
         let mean_sq = y.iter().map(|v| v * v).sum::<f64>() / y.len() as f64;
-        let mut phi = Vec::with_capacity(d + 1);
-        match start {
-            Some((t0, t)) if t.len() == d => {
-                phi.push(t0.max(1e-6).ln());
-                phi.extend(t.iter().map(|v| v.max(1e-6).ln()));
-            }
-            _ => {
-                phi.push(mean_sq.max(0.01).ln());
-                phi.extend(std::iter::repeat_n((2.0 / d.max(1) as f64).ln(), d));
-            }
-        }
+        let starts: Vec<Vec<f64>> = match start {
+            Some((t0, t)) if t.len() == d => vec![
+                std::iter::once(t0.max(1e-6).ln())
+                    .chain(t.iter().map(|v| v.max(1e-6).ln()))
+                    .collect(),
+            ],
+            _ => [1.0, 0.1, 10.0]
+                .iter()
+                .take(options.restarts.clamp(1, 3))
+                .map(|&f| {
+                    std::iter::once(mean_sq.max(0.01).ln())
+                        .chain(std::iter::repeat_n((f * 2.0 / d.max(1) as f64).ln(), d))
+                        .collect()
+                })
+                .collect(),
+        };
         let energy = Energy {
             x: &x,
             y: &y,
             options,
         };
-        let initial = energy.eval(&phi, false).map_or(f64::INFINITY, |e| e.0);
-        let solver = LBFGS::new(MoreThuenteLineSearch::new(), 7);
-        let found = Executor::new(
-            Energy {
-                x: &x,
-                y: &y,
-                options,
-            },
-            solver,
-        )
-        .configure(|s| s.param(phi.clone()).max_iters(options.max_iters))
-        .run()
-        .ok()
-        .and_then(|r| {
-            let st = r.state();
-            Some((st.get_best_param()?.clone(), st.get_best_cost()))
-        });
-        // Keep the start if the search failed or did not improve on it.
-        let (phi, best) = match found {
-            Some((p, c)) if c.is_finite() && c <= initial => (p, c),
-            _ => (phi, initial),
-        };
+        let mut best: Option<(Vec<f64>, f64)> = None;
+        for phi in starts {
+            let initial = energy.eval(&phi, false).map_or(f64::INFINITY, |e| e.0);
+            let solver = LBFGS::new(MoreThuenteLineSearch::new(), 7);
+            let found = Executor::new(
+                Energy {
+                    x: &x,
+                    y: &y,
+                    options,
+                },
+                solver,
+            )
+            .configure(|s| s.param(phi.clone()).max_iters(options.max_iters))
+            .run()
+            .ok()
+            .and_then(|r| {
+                let st = r.state();
+                Some((st.get_best_param()?.clone(), st.get_best_cost()))
+            });
+            // Keep the start if the search failed or did not improve on it.
+            let candidate = match found {
+                Some((p, c)) if c.is_finite() && c <= initial => (p, c),
+                _ => (phi, initial),
+            };
+            if best.as_ref().is_none_or(|b| candidate.1 < b.1) {
+                best = Some(candidate);
+            }
+        }
+        let (phi, best) = best.expect("at least one start");
         let (theta0, theta) = thetas(&phi);
         let (chol, alpha) = factor(&x, &y, theta0, &theta, options.noise)
             .ok_or(DesignError::NotPositiveDefinite)?;
