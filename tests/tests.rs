@@ -11,6 +11,9 @@ mod custom_generator;
 /// Designing a pdf from preference scores: sessions and `shapegen design`.
 #[cfg(feature = "cli")]
 mod design;
+/// The design server: its HTTP API and the page in a headless browser.
+#[cfg(feature = "cli")]
+mod design_server;
 /// The macro's generated code against the run-time interpreter.
 mod express_props;
 /// Thumbnail galleries: the command, its files and clustering invariants.

@@ -42,8 +42,30 @@ pub enum DesignCommand {
     Learn(DesignLearnArgs),
     /// Fits a learned generator to the preference and writes it (learned.json) for `gallery --prior` and `run --prior`.
     Export(DesignExportArgs),
+    /// The design interface in a browser: a local server with one page (score, sample, sort, factors, export).
+    Serve(DesignServeArgs),
     /// The thesis's evaluation (§4.7) on built-in design tasks played by a program: evaluation.json, table.md, curves.png.
     Evaluate(DesignEvaluateArgs),
+}
+
+/// `shapegen design serve`.
+#[derive(Debug, clap::Args)]
+pub struct DesignServeArgs {
+    /// Experiment and session.
+    #[command(flatten)]
+    pub session: SessionArgs,
+    /// Port on 127.0.0.1 (0: any free one).
+    #[arg(long, default_value_t = 8765)]
+    pub port: u16,
+    /// Address to listen on (127.0.0.1 keeps the page to this machine).
+    #[arg(long, default_value = "127.0.0.1")]
+    pub host: String,
+    /// Random seed of a new session; default: the experiment's.
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Open the page in the default browser.
+    #[arg(long)]
+    pub open: bool,
 }
 
 /// `shapegen design evaluate`.

@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 
 use super::args::{
     DesignCommand, DesignEvaluateArgs, DesignExportArgs, DesignLearnArgs, DesignSampleArgs,
-    SamplerArg, SessionArgs,
+    DesignServeArgs, SamplerArg, SessionArgs,
 };
 use super::{Cli, CliError, guard, thread_pool};
 use crate::design::session::{Session, Shown};
@@ -53,6 +53,7 @@ pub(super) fn design(cli: &Cli, command: DesignCommand) -> Result<(), CliError> 
         DesignCommand::Learn(a) => learn(cli, &a),
         DesignCommand::Export(a) => export(cli, &a),
         DesignCommand::Evaluate(a) => evaluate(&a),
+        DesignCommand::Serve(a) => serve(cli, &a),
     }
 }
 
@@ -495,4 +496,33 @@ fn evaluate(args: &DesignEvaluateArgs) -> Result<(), CliError> {
 
 fn reach(n: Option<usize>) -> String {
     n.map_or("not within the curve".into(), |n| n.to_string())
+}
+
+fn serve(cli: &Cli, args: &DesignServeArgs) -> Result<(), CliError> {
+    let experiment = load(cli, &args.session)?;
+    let path = &args.session.session;
+    guard::check_output_file(path)?;
+    guard::refuse_overwriting_inputs(std::slice::from_ref(path), experiment.inputs())?;
+    let seed = args.seed.unwrap_or(experiment.seed());
+    let generator = experiment.generator().to_string();
+    let server =
+        crate::design::server::DesignServer::new(experiment, path, seed).map_err(CliError::msg)?;
+    let address = format!("{}:{}", args.host, args.port);
+    server
+        .serve(&address, |bound| {
+            let url = format!("http://{bound}/");
+            println!(
+                "designing the pdf of `{generator}` in {}: open {url} (Ctrl-C to stop; every score is saved as it is given)",
+                path.display()
+            );
+            if args.open {
+                let opener = if cfg!(target_os = "macos") { "open" } else if cfg!(windows) { "explorer" } else { "xdg-open" };
+                if std::process::Command::new(opener).arg(&url).spawn().is_err() {
+                    eprintln!("shapegen: could not open a browser; open {url} yourself");
+                }
+            }
+        }, &guard::interrupted)
+        .map_err(CliError::msg)?;
+    println!("stopped; the session is saved in {}", path.display());
+    Ok(())
 }

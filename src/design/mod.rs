@@ -17,6 +17,8 @@
 //! # Ok::<(), shapegen::design::DesignError>(())
 //! ```
 
+#[cfg(feature = "cli")]
+pub mod server;
 pub mod session;
 pub mod tasks;
 

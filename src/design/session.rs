@@ -173,6 +173,19 @@ pub struct Session {
     /// The learned factors (one per factor with scores), after `learn`.
     #[serde(default)]
     pub learned: Option<Preference>,
+    /// The models of the last batch, in the order shown (pending or scored).
+    #[serde(default)]
+    pub shown: Vec<u64>,
+    /// How the last batch was drawn.
+    #[serde(default)]
+    pub mode: Option<Mode>,
+    /// Scores given since the last `learn` (a refit is due).
+    #[serde(default)]
+    pub stale: bool,
+    /// How many times the session was saved by the design server: a page
+    /// that sends an older revision is told the session changed elsewhere.
+    #[serde(default)]
+    pub revision: u64,
 }
 
 fn fingerprint(graph: &Graph) -> String {
@@ -197,6 +210,10 @@ impl Session {
             batches: 0,
             seed,
             learned: None,
+            shown: Vec::new(),
+            mode: None,
+            stale: false,
+            revision: 0,
         }
     }
 
@@ -343,6 +360,7 @@ impl Session {
         };
         self.batches += 1;
         self.pending.clear();
+        self.mode = Some(mode);
         let mut shown = Vec::with_capacity(models.len());
         for (id, model, score) in models {
             let id = id.unwrap_or_else(|| {
@@ -363,6 +381,7 @@ impl Session {
                 score,
             });
         }
+        self.shown = shown.iter().map(|s| s.id).collect();
         Ok(shown)
     }
 
@@ -375,6 +394,7 @@ impl Session {
         let factor = &mut self.factors[self.current];
         if let Some(s) = factor.scored.iter_mut().find(|s| s.id == id) {
             s.score = score;
+            self.stale = true;
             return Ok(());
         }
         let at = self
@@ -388,7 +408,33 @@ impl Session {
             model: p.model,
             score,
         });
+        self.stale = true;
         Ok(())
+    }
+
+    /// Model `id` as stored (pending, or scored for any factor) and its
+    /// score for the current factor, if any.
+    #[must_use]
+    pub fn model(&self, id: u64) -> Option<(&ChromosomeData, Option<f64>)> {
+        let current = self.factors[self.current]
+            .scored
+            .iter()
+            .find(|s| s.id == id);
+        if let Some(s) = current {
+            return Some((&s.model, Some(s.score)));
+        }
+        self.pending
+            .iter()
+            .find(|p| p.id == id)
+            .map(|p| &p.model)
+            .or_else(|| {
+                self.factors
+                    .iter()
+                    .flat_map(|f| &f.scored)
+                    .find(|s| s.id == id)
+                    .map(|s| &s.model)
+            })
+            .map(|m| (m, None))
     }
 
     /// Fits one factor per factor with scores; the preference is their product.
@@ -411,6 +457,7 @@ impl Session {
         if factors.is_empty() {
             return Err(DesignError::NoScores.into());
         }
+        self.stale = false;
         Ok(self.learned.insert(Preference { factors }))
     }
 

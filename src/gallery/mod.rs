@@ -520,8 +520,42 @@ pub fn best_view_picture_of(
     instances: &[Instance],
     size: u32,
 ) -> Result<image::RgbaImage, GalleryError> {
+    Ok(views_of(meshes, instances, size, 1)?
+        .pop()
+        .expect("one view"))
+}
+
+/// The model of `chromosome` from `views` viewpoints around it (its best
+/// view first, then turned about the vertical by equal steps), side by side
+/// in one picture, each `size` pixels square: the larger look of a design
+/// page.
+pub fn views_picture(
+    models: &dyn Models,
+    chromosome: &Chromosome,
+    size: u32,
+) -> Result<image::RgbaImage, GalleryError> {
+    let meshes = render_meshes(models, Terminals::Auto)?;
+    let pictures = views_of(&meshes, &models.instances(chromosome), size, 3)?;
+    let mut out = image::RgbaImage::from_pixel(
+        size * pictures.len() as u32,
+        size,
+        image::Rgba([255, 255, 255, 255]),
+    );
+    for (k, p) in pictures.iter().enumerate() {
+        image::imageops::overlay(&mut out, p, i64::from(size) * k as i64, 0);
+    }
+    Ok(out)
+}
+
+/// Pictures from the best view and `count - 1` more turned about the vertical.
+fn views_of(
+    meshes: &RenderMeshes,
+    instances: &[Instance],
+    size: u32,
+    count: usize,
+) -> Result<Vec<image::RgbaImage>, GalleryError> {
     let Some(sphere) = meshes.bounding_sphere(instances) else {
-        return Ok(empty_thumbnail(size));
+        return Ok(vec![empty_thumbnail(size); count]);
     };
     let sampling = ViewSampling::default();
     let mut renderer = Renderer::new();
@@ -534,12 +568,17 @@ pub fn best_view_picture_of(
         &AttributeWeights::BEST_VIEW,
         &Style::fast(),
     )?;
-    let camera = view
-        .viewpoint
-        .camera(&sphere, sampling.fov_y, (sampling.size, sampling.size))?;
-    let g = renderer.render(meshes, instances, &camera);
-    let mut camera = frame_tightly(&camera, g, 0.06);
-    camera.width = size;
-    camera.height = size;
-    Ok(renderer.picture(meshes, instances, &camera, &Style::default()))
+    (0..count)
+        .map(|k| {
+            let mut viewpoint = view.viewpoint;
+            viewpoint.azimuth += std::f64::consts::TAU * k as f64 / count as f64;
+            let camera =
+                viewpoint.camera(&sphere, sampling.fov_y, (sampling.size, sampling.size))?;
+            let g = renderer.render(meshes, instances, &camera);
+            let mut camera = frame_tightly(&camera, g, 0.06);
+            camera.width = size;
+            camera.height = size;
+            Ok(renderer.picture(meshes, instances, &camera, &Style::default()))
+        })
+        .collect()
 }

@@ -1,0 +1,396 @@
+//! The design server: every API call, bad requests, a second tab, concurrent
+//! requests over real sockets, the session round trip; and the page in a
+//! real headless browser (skipped, with a clear message, where no browser is
+//! installed; `.ci/run` installs one).
+
+use std::io::{Read, Write};
+use std::net::{SocketAddr, TcpStream};
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, mpsc};
+
+use serde_json::{Value, json};
+use shapegen::design::server::{DesignServer, Reply};
+use shapegen::experiment::Experiment;
+
+use crate::util::temp;
+
+fn server(dir: &Path) -> DesignServer {
+    DesignServer::new(Experiment::builtin(), &dir.join("session.json"), 3).unwrap()
+}
+
+fn call(s: &DesignServer, method: &str, url: &str, body: Value) -> (u16, Value) {
+    let body = if body.is_null() {
+        Vec::new()
+    } else {
+        body.to_string().into_bytes()
+    };
+    let Reply {
+        status,
+        body,
+        content_type,
+    } = s.respond(method, url, &body);
+    assert_eq!(content_type, "application/json", "{url}");
+    (status, serde_json::from_slice(&body).unwrap())
+}
+
+#[test]
+fn every_call_of_the_api_and_its_errors() {
+    let dir = temp("server", "api");
+    let s = server(&dir);
+    let page = s.respond("GET", "/", &[]);
+    assert_eq!(
+        (page.status, page.content_type),
+        (200, "text/html; charset=utf-8")
+    );
+    assert!(String::from_utf8(page.body).unwrap().contains("Next batch"));
+    let (code, state) = call(&s, "GET", "/api/state", Value::Null);
+    assert_eq!(code, 200);
+    assert_eq!(state["models"].as_array().unwrap().len(), 0);
+    assert_eq!(state["revision"], 0);
+    // Modes that need a preference, before there is one.
+    let (code, e) = call(
+        &s,
+        "POST",
+        "/api/sample",
+        json!({"mode": "current", "revision": 0}),
+    );
+    assert_eq!(code, 422, "{e}");
+    assert!(e["error"].as_str().unwrap().contains("learned preference"));
+    let (code, state) = call(
+        &s,
+        "POST",
+        "/api/sample",
+        json!({"mode": "default", "count": 10, "revision": 0}),
+    );
+    assert_eq!(code, 200, "{state}");
+    let ids: Vec<u64> = state["models"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m["id"].as_u64().unwrap())
+        .collect();
+    assert_eq!(ids.len(), 10);
+    let rev = state["revision"].as_u64().unwrap();
+    assert_eq!(rev, 1);
+    // Thumbnails, larger views and parameters.
+    let t = s.respond("GET", &format!("/api/thumb/{}", ids[0]), &[]);
+    assert_eq!((t.status, t.content_type), (200, "image/png"));
+    assert!(image::load_from_memory(&t.body).unwrap().width() == 200);
+    let v = s.respond("GET", &format!("/api/view/{}", ids[0]), &[]);
+    assert_eq!(image::load_from_memory(&v.body).unwrap().width(), 3 * 360);
+    let (code, m) = call(&s, "GET", &format!("/api/model/{}", ids[0]), Value::Null);
+    assert_eq!(code, 200);
+    assert_eq!(m["genes"][0]["node"], "S");
+    assert_eq!(call(&s, "GET", "/api/model/999", Value::Null).0, 404);
+    assert_eq!(call(&s, "GET", "/api/thumb/x", Value::Null).0, 400);
+    // Bad scores change nothing; one bad score in a list rejects the list.
+    let before = std::fs::read(dir.join("session.json")).unwrap();
+    for bad in [
+        json!({"scores": [{"id": ids[0], "score": 140.0}], "revision": rev}),
+        json!({"scores": [{"id": ids[0], "score": 50.0}, {"id": 999, "score": 50.0}], "revision": rev}),
+        json!({"scores": [{"id": ids[0], "score": "high"}], "revision": rev}),
+        json!({"scores": [{"id": ids[0], "score": 50.0}], "revision": rev, "extra": 1}),
+    ] {
+        let (code, e) = call(&s, "POST", "/api/score", bad.clone());
+        assert!(code == 400 || code == 404, "{bad}: {code} {e}");
+        assert!(e["error"].is_string());
+    }
+    let garbage = s.respond("POST", "/api/score", b"{not json");
+    assert_eq!(garbage.status, 400);
+    assert_eq!(
+        std::fs::read(dir.join("session.json")).unwrap(),
+        before,
+        "nothing was saved"
+    );
+    // A second tab with an older revision is refused.
+    let (code, e) = call(
+        &s,
+        "POST",
+        "/api/score",
+        json!({"scores": [{"id": ids[0], "score": 50.0}], "revision": 0}),
+    );
+    assert_eq!(code, 409);
+    assert!(e["error"].as_str().unwrap().contains("another tab"));
+    // Scores, saved at once.
+    let scores: Vec<Value> = ids
+        .iter()
+        .enumerate()
+        .map(|(i, &id)| json!({"id": id, "score": if i % 2 == 0 { 90.0 } else { 5.0 }}))
+        .collect();
+    let (code, state) = call(
+        &s,
+        "POST",
+        "/api/score",
+        json!({"scores": scores, "revision": rev}),
+    );
+    assert_eq!(code, 200, "{state}");
+    assert!(state["stale"].as_bool().unwrap());
+    assert!(
+        state["models"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .all(|m| m["score"].is_f64())
+    );
+    let saved: Value =
+        serde_json::from_slice(&std::fs::read(dir.join("session.json")).unwrap()).unwrap();
+    assert_eq!(saved["factors"][0]["scored"].as_array().unwrap().len(), 10);
+    // Sorting by score puts the 90s first.
+    let (_, sorted) = call(&s, "GET", "/api/state?sort=score", Value::Null);
+    let first: Vec<f64> = sorted["models"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .take(5)
+        .map(|m| m["score"].as_f64().unwrap())
+        .collect();
+    assert_eq!(first, vec![90.0; 5]);
+    // The next batch refits first; predictions appear.
+    let rev = sorted["revision"].as_u64().unwrap();
+    let (code, state) = call(
+        &s,
+        "POST",
+        "/api/sample",
+        json!({"mode": "uncertain", "count": 6, "revision": rev}),
+    );
+    assert_eq!(code, 200, "{state}");
+    assert!(state["learned"].as_bool().unwrap() && !state["stale"].as_bool().unwrap());
+    assert!(
+        state["models"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .all(|m| m["predicted"].is_f64() && m["std"].is_f64())
+    );
+    let rev = state["revision"].as_u64().unwrap();
+    // Similarity sort, factors, export.
+    let target = state["models"][3]["id"].as_u64().unwrap();
+    let (_, similar) = call(
+        &s,
+        "GET",
+        &format!("/api/state?sort=similar:{target}"),
+        Value::Null,
+    );
+    assert_eq!(similar["models"][0]["id"].as_u64(), Some(target));
+    let (code, state) = call(
+        &s,
+        "POST",
+        "/api/factor",
+        json!({"name": "colour", "revision": rev}),
+    );
+    assert_eq!(code, 200);
+    assert_eq!(
+        state["factors"][state["current"].as_u64().unwrap() as usize]["name"],
+        "colour"
+    );
+    assert_eq!(
+        call(
+            &s,
+            "POST",
+            "/api/factor",
+            json!({"name": " ", "revision": rev + 1})
+        )
+        .0,
+        400
+    );
+    let (code, state) = call(
+        &s,
+        "POST",
+        "/api/factor",
+        json!({"name": "preference", "revision": rev + 1}),
+    );
+    assert_eq!(code, 200);
+    let (code, done) = call(
+        &s,
+        "POST",
+        "/api/export",
+        json!({"revision": state["revision"]}),
+    );
+    assert_eq!(code, 200, "{done}");
+    assert!(dir.join("learned.json").exists());
+    assert_eq!(call(&s, "POST", "/api/nope", json!({})).0, 404);
+    assert_eq!(call(&s, "DELETE", "/api/state", Value::Null).0, 405);
+    // The session round trip: a new server on the same file shows the same page.
+    let (_, last) = call(&s, "GET", "/api/state", Value::Null);
+    drop(s);
+    let again = server(&dir);
+    let (_, restored) = call(&again, "GET", "/api/state", Value::Null);
+    assert_eq!(last, restored);
+    // A session of another generator is refused.
+    let text = std::fs::read_to_string("experiments/default.toml")
+        .unwrap()
+        .replace("generator = \"spaceship\"", "generator = \"tree_v2\"");
+    let tree = dir.join("tree.toml");
+    std::fs::write(&tree, text).unwrap();
+    let tree = Experiment::load(&tree, &Default::default()).unwrap();
+    let e = DesignServer::new(tree, &dir.join("session.json"), 1)
+        .err()
+        .unwrap();
+    assert!(e.contains("not `tree_v2`"), "{e}");
+}
+
+/// A raw HTTP request over a socket; the response's status and body.
+fn http(addr: SocketAddr, method: &str, path: &str, body: &str) -> (u16, String) {
+    let mut stream = TcpStream::connect(addr).unwrap();
+    write!(
+        stream,
+        "{method} {path} HTTP/1.1\r\nHost: localhost\r\nContent-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+        body.len()
+    )
+    .unwrap();
+    let mut bytes = Vec::new();
+    stream.read_to_end(&mut bytes).unwrap_or_default();
+    let text = String::from_utf8_lossy(&bytes);
+    let status = text
+        .split(' ')
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0);
+    let body = text
+        .split_once("\r\n\r\n")
+        .map(|b| b.1.to_string())
+        .unwrap_or_default();
+    (status, body)
+}
+
+/// Runs a server on a free port until the returned flag is set.
+fn spawn(dir: &Path) -> (SocketAddr, Arc<AtomicBool>, std::thread::JoinHandle<()>) {
+    let s = server(dir);
+    let stop = Arc::new(AtomicBool::new(false));
+    let (tx, rx) = mpsc::channel();
+    let flag = Arc::clone(&stop);
+    let handle = std::thread::spawn(move || {
+        s.serve("127.0.0.1:0", |addr| tx.send(addr).unwrap(), &|| {
+            flag.load(Ordering::SeqCst)
+        })
+        .unwrap();
+    });
+    (rx.recv().unwrap(), stop, handle)
+}
+
+#[test]
+fn concurrent_requests_over_sockets_keep_every_score() {
+    let dir = temp("server", "concurrent");
+    let (addr, stop, handle) = spawn(&dir);
+    let (code, body) = http(
+        addr,
+        "POST",
+        "/api/sample",
+        r#"{"mode": "default", "count": 16}"#,
+    );
+    assert_eq!(code, 200, "{body}");
+    let state: Value = serde_json::from_str(&body).unwrap();
+    let ids: Vec<u64> = state["models"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m["id"].as_u64().unwrap())
+        .collect();
+    // 16 clients score one model each, while 16 others read state and thumbnails.
+    let threads: Vec<_> = ids
+        .iter()
+        .map(|&id| {
+            std::thread::spawn(move || {
+                let (a, _) = http(
+                    addr,
+                    "POST",
+                    "/api/score",
+                    &format!(r#"{{"scores": [{{"id": {id}, "score": {}}}]}}"#, id % 100),
+                );
+                let (b, _) = http(addr, "GET", "/api/state", "");
+                let (c, _) = http(addr, "GET", &format!("/api/thumb/{id}"), "");
+                (a, b, c)
+            })
+        })
+        .collect();
+    for t in threads {
+        assert_eq!(t.join().unwrap(), (200, 200, 200));
+    }
+    let (code, body) = http(addr, "GET", "/api/state", "");
+    assert_eq!(code, 200);
+    let state: Value = serde_json::from_str(&body).unwrap();
+    assert_eq!(
+        state["factors"][0]["scored"], 16,
+        "every concurrent score was kept"
+    );
+    let saved: Value =
+        serde_json::from_slice(&std::fs::read(dir.join("session.json")).unwrap()).unwrap();
+    assert_eq!(saved["factors"][0]["scored"].as_array().unwrap().len(), 16);
+    // Oversized and malformed requests.
+    let big = format!(r#"{{"scores": [], "pad": "{}"}}"#, "x".repeat(2 << 20));
+    assert_eq!(http(addr, "POST", "/api/score", &big).0, 413);
+    assert_eq!(http(addr, "POST", "/api/sample", "[1,2").0, 400);
+    assert_eq!(http(addr, "GET", "/nothing", "").0, 404);
+    stop.store(true, Ordering::SeqCst);
+    handle.join().unwrap();
+}
+
+/// The page in headless Chromium, driven by `tests/browser/design.mjs`
+/// (Playwright). Skips, saying why, when Node.js, Chromium or
+/// playwright-core is missing. With `SHAPEGEN_SCREENSHOTS=DIR` the
+/// screenshots go to DIR (the README's come from there).
+#[test]
+fn the_page_in_a_headless_browser() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let script = root.join("tests/browser/design.mjs");
+    let chromium = std::env::var("CHROMIUM").unwrap_or_else(|_| "/usr/bin/chromium".into());
+    let missing = if std::process::Command::new("node")
+        .arg("--version")
+        .output()
+        .is_err()
+    {
+        Some("Node.js (node) is not installed".to_string())
+    } else if !Path::new(&chromium).exists() {
+        Some(format!(
+            "no Chromium at {chromium} (set CHROMIUM, or install Debian's chromium)"
+        ))
+    } else if !root
+        .join("tests/browser/node_modules/playwright-core")
+        .exists()
+    {
+        Some("playwright-core is not installed (run `npm ci` in tests/browser)".to_string())
+    } else {
+        None
+    };
+    if let Some(why) = missing {
+        eprintln!("SKIPPED the_page_in_a_headless_browser: {why}; .ci/run installs what it needs");
+        return;
+    }
+    let dir = temp("server", "browser");
+    let shots =
+        std::env::var("SHAPEGEN_SCREENSHOTS").map_or_else(|_| dir.join("shots"), Into::into);
+    std::fs::create_dir_all(&shots).unwrap();
+    let (addr, stop, handle) = spawn(&dir);
+    let out = std::process::Command::new("node")
+        .arg(&script)
+        .arg(format!("http://{addr}/"))
+        .arg(&shots)
+        .env("CHROMIUM", &chromium)
+        .output()
+        .unwrap();
+    stop.store(true, Ordering::SeqCst);
+    handle.join().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let result: Value = serde_json::from_str(stdout.trim().lines().last().unwrap()).unwrap();
+    assert_eq!(result["ok"], true);
+    // The current pdf of a preference for one or two wing pairs shows models
+    // predicted well above the middle.
+    assert!(
+        result["mean_predicted"].as_f64().unwrap() > 50.0,
+        "{result}"
+    );
+    for shot in ["1-empty", "2-batch", "3-scored", "4-current", "5-detail"] {
+        let img = image::open(shots.join(format!("{shot}.png"))).unwrap();
+        assert_eq!(img.width(), 1280, "{shot}");
+    }
+    // The session on disk holds the 24 scores the browser gave.
+    let saved: Value =
+        serde_json::from_slice(&std::fs::read(dir.join("session.json")).unwrap()).unwrap();
+    assert_eq!(saved["factors"][0]["scored"].as_array().unwrap().len(), 24);
+}
