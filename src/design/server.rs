@@ -329,11 +329,11 @@ impl DesignServer {
             Ok(()) => {
                 drop(state);
                 let mut reply = self.state_reply(query);
-                if action == "export" {
-                    if let Ok(mut v) = serde_json::from_slice::<serde_json::Value>(&reply.body) {
-                        v["exported"] = json!(self.learned_path.display().to_string());
-                        reply = Reply::json(200, &v);
-                    }
+                if action == "export"
+                    && let Ok(mut v) = serde_json::from_slice::<serde_json::Value>(&reply.body)
+                {
+                    v["exported"] = json!(self.learned_path.display().to_string());
+                    reply = Reply::json(200, &v);
                 }
                 reply
             }

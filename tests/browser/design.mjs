@@ -10,6 +10,8 @@ import { chromium } from "playwright-core";
 const [url, shots] = process.argv.slice(2);
 let current = "start";
 const step = (name) => { current = name; };
+let page;
+const shot = async (options) => { await page.evaluate(() => window.scrollTo(0, 0)); await page.screenshot(options); };
 const fail = (message) => { console.error("FAIL at " + current + ": " + message); process.exit(1); };
 process.on("unhandledRejection", (e) => fail(String(e)));
 const browser = await chromium.launch({
@@ -18,7 +20,7 @@ const browser = await chromium.launch({
     "--disable-background-networking", "--disable-component-update", "--disable-sync"],
 });
 try {
-  const page = await browser.newPage({ viewport: { width: 1280, height: 960 } });
+  page = await browser.newPage({ viewport: { width: 1280, height: 960 } });
   // Generous: CI machines are slow, and other tests run beside this one.
   page.setDefaultTimeout(120000);
   page.on("pageerror", (e) => fail("page error: " + e.message));
@@ -26,7 +28,7 @@ try {
   await page.goto(url);
   await page.waitForSelector("#title:has-text('spaceship')");
   if (await page.locator(".card").count() !== 0) fail("a new session shows models");
-  await page.screenshot({ path: shots + "/1-empty.png" });
+  await shot({ path: shots + "/1-empty.png" });
 
   step("first batch");
   // A first batch from the default pdf.
@@ -37,7 +39,7 @@ try {
       const imgs = await page.$$eval(".card img", (is) => is.map((i) => [i.src, i.complete, i.naturalWidth]));
       fail(String(e) + " " + JSON.stringify(imgs.filter((i) => !i[2])));
     });
-  await page.screenshot({ path: shots + "/2-batch.png" });
+  await shot({ path: shots + "/2-batch.png" });
 
   // Score as a user who wants one or two wing pairs: look at each model's
   // parameters (its genes), select the liked ones, press 8 and Enter; then
@@ -59,7 +61,7 @@ try {
   await page.keyboard.press("0");
   await page.keyboard.press("Enter");
   await page.waitForFunction(() => [...document.querySelectorAll(".card .score")].every((s) => s.textContent.startsWith("score")));
-  await page.screenshot({ path: shots + "/3-scored.png" });
+  await shot({ path: shots + "/3-scored.png" });
 
   step("current pdf batch");
   // The next batch from the current pdf: the preference is fitted, and
@@ -71,7 +73,7 @@ try {
   const before = await page.$$eval(".card", (cards) => cards.map((c) => c.dataset.id + " " + c.textContent));
   const predicted = await page.$$eval(".card .predicted", (p) => p.map((x) => parseFloat(x.textContent.split(" ")[1])));
   const mean = predicted.reduce((a, b) => a + b, 0) / predicted.length;
-  await page.screenshot({ path: shots + "/4-current.png" });
+  await shot({ path: shots + "/4-current.png" });
 
   step("reload");
   // Reload: the same batch, scores and predictions.
@@ -86,7 +88,7 @@ try {
   await page.click(".card .zoom");
   await page.waitForSelector("#detail.open img");
   await page.waitForFunction(() => { const i = document.querySelector("#detail img"); return i.complete && i.naturalWidth > 0; });
-  await page.screenshot({ path: shots + "/5-detail.png" });
+  await shot({ path: shots + "/5-detail.png" });
   console.log(JSON.stringify({ ok: true, liked: liked.length, scored: ids.length, mean_predicted: mean }));
 } catch (e) {
   fail(String(e));
