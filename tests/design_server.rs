@@ -201,6 +201,38 @@ fn every_call_of_the_api_and_its_errors() {
         json!({"name": "preference", "revision": rev + 1}),
     );
     assert_eq!(code, 200);
+    // Factors in and out of the product; a refit on request.
+    let (code, state) = call(
+        &s,
+        "POST",
+        "/api/factor",
+        json!({"name": "colour", "active": false, "revision": state["revision"]}),
+    );
+    assert_eq!(code, 200, "{state}");
+    assert_eq!(state["factors"][1]["active"], false);
+    assert_eq!(
+        call(
+            &s,
+            "POST",
+            "/api/factor",
+            json!({"name": "shape", "active": true})
+        )
+        .0,
+        404
+    );
+    let (code, state) = call(
+        &s,
+        "POST",
+        "/api/learn",
+        json!({"revision": state["revision"]}),
+    );
+    assert_eq!(code, 200, "{state}");
+    assert!(!state["stale"].as_bool().unwrap());
+    assert_eq!(
+        state["features"].as_array().unwrap().len(),
+        1,
+        "only the scored, active factor is fitted"
+    );
     let (code, done) = call(
         &s,
         "POST",

@@ -18,6 +18,7 @@
 //! | `POST sample {"mode", "count", "revision"}` | refits if scores came in since, then draws a batch |
 //! | `POST score {"scores": [{"id", "score"}], "revision"}` | scores models of the batch for the current factor |
 //! | `POST factor {"name", "revision"}` | switches to (or creates) a factor |
+//! | `POST factor {"name", "active", "revision"}` | takes a factor into the preference (the product of the active ones) or leaves it out |
 //! | `POST learn {"revision"}` | refits the preference now |
 //! | `POST export {"revision"}` | writes the learned generator beside the session |
 //! | `GET thumb/ID` | a model's thumbnail (PNG) |
@@ -129,6 +130,9 @@ struct ScoreItem {
 #[serde(deny_unknown_fields)]
 struct FactorRequest {
     name: String,
+    /// Take the factor into the preference (true) or leave it out (false);
+    /// without it, the factor becomes the one scores go to.
+    active: Option<bool>,
     revision: Option<u64>,
 }
 
@@ -286,7 +290,13 @@ impl DesignServer {
                         "a factor's name must be 1 to 80 characters",
                     ));
                 }
-                state.session.select_factor(name);
+                match r.active {
+                    None => state.session.select_factor(name),
+                    Some(active) => state
+                        .session
+                        .set_active(name, active)
+                        .map_err(|e| Reply::error(404, e.to_string()))?,
+                }
                 self.save(&mut state)
             }
             "learn" => {
@@ -542,7 +552,7 @@ impl DesignServer {
         let factors: Vec<serde_json::Value> = s
             .factors
             .iter()
-            .map(|f| json!({ "name": f.name, "scored": f.scored.len() }))
+            .map(|f| json!({ "name": f.name, "scored": f.scored.len(), "active": f.active }))
             .collect();
         let features: Vec<serde_json::Value> = s
             .learned

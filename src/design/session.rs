@@ -68,6 +68,9 @@ pub enum SessionError {
     /// An id that is neither pending nor scored.
     #[error("no model {0} in this session (it was not sampled here, or its batch was replaced)")]
     UnknownModel(u64),
+    /// A factor the session does not have.
+    #[error("no factor `{0}` in this session")]
+    UnknownFactor(String),
     /// A mode that needs a learned preference, before any.
     #[error("mode `{0}` needs a learned preference: score some models and run `learn` first")]
     NotLearned(&'static str),
@@ -134,6 +137,14 @@ pub struct FactorScores {
     pub name: String,
     /// Its scored models.
     pub scored: Vec<Scored>,
+    /// Whether it is part of the preference (the product of the active
+    /// factors with scores).
+    #[serde(default = "active")]
+    pub active: bool,
+}
+
+fn active() -> bool {
+    true
 }
 
 /// A model of a batch with what the preference predicts for it.
@@ -203,6 +214,7 @@ impl Session {
             factors: vec![FactorScores {
                 name: "preference".into(),
                 scored: Vec::new(),
+                active: true,
             }],
             current: 0,
             pending: Vec::new(),
@@ -286,10 +298,26 @@ impl Session {
                 self.factors.push(FactorScores {
                     name: name.to_string(),
                     scored: Vec::new(),
+                    active: true,
                 });
                 self.current = self.factors.len() - 1;
             }
         }
+    }
+
+    /// Takes factor `name` into the preference or leaves it out; the
+    /// preference is refitted at the next [`learn`](Self::learn).
+    pub fn set_active(&mut self, name: &str, active: bool) -> Result<(), SessionError> {
+        let f = self
+            .factors
+            .iter_mut()
+            .find(|f| f.name == name)
+            .ok_or_else(|| SessionError::UnknownFactor(name.to_string()))?;
+        if f.active != active {
+            f.active = active;
+            self.stale = true;
+        }
+        Ok(())
     }
 
     /// Scored models over all factors.
@@ -437,14 +465,18 @@ impl Session {
             .map(|m| (m, None))
     }
 
-    /// Fits one factor per factor with scores; the preference is their product.
+    /// Fits one factor per active factor with scores; the preference is their product.
     pub fn learn(
         &mut self,
         graph: &Graph,
         options: FactorOptions,
     ) -> Result<&Preference, SessionError> {
         let mut factors = Vec::new();
-        for f in self.factors.iter().filter(|f| !f.scored.is_empty()) {
+        for f in self
+            .factors
+            .iter()
+            .filter(|f| f.active && !f.scored.is_empty())
+        {
             let models: Vec<Chromosome> = f
                 .scored
                 .iter()
