@@ -2,7 +2,8 @@
 //! over a [`Session`] and one page with no build step, embedded in the
 //! binary (`shapegen design serve`).
 //!
-//! The page shows the batch as a grid of thumbnails with the learned
+//! The page shows the batch as a grid of thumbnails (all from the default
+//! model's best view, as the thesis's interface) with the learned
 //! preference and its uncertainty; the user selects models and scores them
 //! 0–100, asks for the next batch by mode (default, current, complementary,
 //! uncertain, scored), sorts, switches factors and exports the learned
@@ -96,6 +97,9 @@ pub struct DesignServer {
     path: PathBuf,
     learned_path: PathBuf,
     thumbnail: u32,
+    /// The default model's best view, from which every thumbnail is drawn
+    /// (`None` if the default model emits nothing: then each model's own).
+    viewpoint: std::sync::OnceLock<Option<crate::score::Viewpoint>>,
     state: Mutex<State>,
 }
 
@@ -173,6 +177,7 @@ impl DesignServer {
             path: path.to_path_buf(),
             learned_path,
             thumbnail: 200,
+            viewpoint: std::sync::OnceLock::new(),
             state: Mutex::new(State {
                 session,
                 thumbnails: HashMap::new(),
@@ -361,9 +366,24 @@ impl DesignServer {
         })
     }
 
+    /// A thumbnail from the default model's best view, as the thesis's
+    /// interface shows them (each model's own best view if the default
+    /// model emits nothing).
     fn render(&self, model: &Chromosome, size: u32) -> Result<Vec<u8>, String> {
-        let img = crate::gallery::best_view_picture(&self.experiment, model, size)
-            .map_err(|e| e.to_string())?;
+        let viewpoint = *self.viewpoint.get_or_init(|| {
+            crate::ops::default_model(self.experiment.graph())
+                .ok()
+                .and_then(|d| {
+                    crate::gallery::best_viewpoint(&self.experiment, &d)
+                        .ok()
+                        .flatten()
+                })
+        });
+        let img = match viewpoint {
+            Some(v) => crate::gallery::picture_from(&self.experiment, model, v, size),
+            None => crate::gallery::best_view_picture(&self.experiment, model, size),
+        }
+        .map_err(|e| e.to_string())?;
         crate::score::png_bytes(Path::new("thumbnail.png"), &img).map_err(|e| e.to_string())
     }
 

@@ -39,7 +39,8 @@ use crate::graph::Graph;
 use crate::ops::OpError;
 use crate::score::{
     AttributeWeights, BestView, BoundingSphere, ModelFitness, RenderMeshes, Renderer, Scene,
-    ScoreError, ShapeMeshes, Style, ViewAttributes, ViewSampling, best_view_around, frame_tightly,
+    ScoreError, ShapeMeshes, Style, ViewAttributes, ViewSampling, Viewpoint, best_view_around,
+    frame_tightly,
 };
 
 /// What a gallery needs of a generator: its graph, its shapes' meshes, and
@@ -557,14 +558,13 @@ fn views_of(
     let Some(sphere) = meshes.bounding_sphere(instances) else {
         return Ok(vec![empty_thumbnail(size); count]);
     };
-    let sampling = ViewSampling::default();
     let mut renderer = Renderer::new();
     let view = best_view_around(
         &mut renderer,
         meshes,
         instances,
         &sphere,
-        &sampling,
+        &ViewSampling::default(),
         &AttributeWeights::BEST_VIEW,
         &Style::fast(),
     )?;
@@ -572,13 +572,74 @@ fn views_of(
         .map(|k| {
             let mut viewpoint = view.viewpoint;
             viewpoint.azimuth += std::f64::consts::TAU * k as f64 / count as f64;
-            let camera =
-                viewpoint.camera(&sphere, sampling.fov_y, (sampling.size, sampling.size))?;
-            let g = renderer.render(meshes, instances, &camera);
-            let mut camera = frame_tightly(&camera, g, 0.06);
-            camera.width = size;
-            camera.height = size;
-            Ok(renderer.picture(meshes, instances, &camera, &Style::default()))
+            picture_at(&mut renderer, meshes, instances, &sphere, viewpoint, size)
         })
         .collect()
+}
+
+/// The best viewpoint of `chromosome`'s model (the thesis's 32 viewpoints
+/// and weights), or `None` if it emits nothing.
+pub fn best_viewpoint(
+    models: &dyn Models,
+    chromosome: &Chromosome,
+) -> Result<Option<Viewpoint>, GalleryError> {
+    let meshes = render_meshes(models, Terminals::Auto)?;
+    let instances = models.instances(chromosome);
+    let Some(sphere) = meshes.bounding_sphere(&instances) else {
+        return Ok(None);
+    };
+    let view = best_view_around(
+        &mut Renderer::new(),
+        &meshes,
+        &instances,
+        &sphere,
+        &ViewSampling::default(),
+        &AttributeWeights::BEST_VIEW,
+        &Style::fast(),
+    )?;
+    Ok(Some(view.viewpoint))
+}
+
+/// The model of `chromosome` from `viewpoint` (e.g. the default model's
+/// best view, so that every thumbnail of a page looks from the same side),
+/// `size` pixels square, framed tightly and supersampled; a faint cross if
+/// it emits nothing.
+pub fn picture_from(
+    models: &dyn Models,
+    chromosome: &Chromosome,
+    viewpoint: Viewpoint,
+    size: u32,
+) -> Result<image::RgbaImage, GalleryError> {
+    let meshes = render_meshes(models, Terminals::Auto)?;
+    let instances = models.instances(chromosome);
+    let Some(sphere) = meshes.bounding_sphere(&instances) else {
+        return Ok(empty_thumbnail(size));
+    };
+    picture_at(
+        &mut Renderer::new(),
+        &meshes,
+        &instances,
+        &sphere,
+        viewpoint,
+        size,
+    )
+}
+
+/// One picture from `viewpoint`, its camera fitted to `sphere` and then
+/// zoomed onto what it covers.
+fn picture_at(
+    renderer: &mut Renderer,
+    meshes: &RenderMeshes,
+    instances: &[Instance],
+    sphere: &BoundingSphere,
+    viewpoint: Viewpoint,
+    size: u32,
+) -> Result<image::RgbaImage, GalleryError> {
+    let sampling = ViewSampling::default();
+    let camera = viewpoint.camera(sphere, sampling.fov_y, (sampling.size, sampling.size))?;
+    let g = renderer.render(meshes, instances, &camera);
+    let mut camera = frame_tightly(&camera, g, 0.06);
+    camera.width = size;
+    camera.height = size;
+    Ok(renderer.picture(meshes, instances, &camera, &Style::default()))
 }
