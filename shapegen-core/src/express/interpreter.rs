@@ -5,7 +5,7 @@ use std::borrow::Cow;
 use glam::{Affine3A, Vec2, Vec3};
 
 use crate::genome::{Chromosome, Gene};
-use crate::graph::Graph;
+use crate::graph::{Graph, ParamKind};
 
 use super::generator::Generator;
 use super::node_out::{NodeOut, SlotRef};
@@ -198,6 +198,26 @@ impl<St: Clone + Send + Sync> Generator for Interpreter<St> {
     }
 }
 
+fn kind_name(kind: ParamKind) -> &'static str {
+    match kind {
+        ParamKind::F32 => "an f32",
+        ParamKind::Vec2 => "a vec2",
+        ParamKind::Vec3 => "a vec3",
+        ParamKind::Int => "an int",
+        ParamKind::Choice => "a choice",
+    }
+}
+
+fn accessor(kind: ParamKind) -> &'static str {
+    match kind {
+        ParamKind::F32 => "f32",
+        ParamKind::Vec2 => "vec2",
+        ParamKind::Vec3 => "vec3",
+        ParamKind::Int => "int",
+        ParamKind::Choice => "choice",
+    }
+}
+
 /// What a rule reads: the gene's parameters, by name.
 #[derive(Clone, Copy, Debug)]
 pub struct RuleInput<'a> {
@@ -206,42 +226,60 @@ pub struct RuleInput<'a> {
 }
 
 impl RuleInput<'_> {
-    fn index(&self, name: &str) -> usize {
+    /// The index of parameter `name`, which must be of kind `kind`: a rule
+    /// reading a parameter as the wrong type would get its bits
+    /// reinterpreted (an int 6 read as an `f32` is 8e-45), so it panics
+    /// with what the parameter is and which accessor to use.
+    fn index(&self, name: &str, kind: ParamKind) -> usize {
         let node = self.graph.node(self.gene.node());
-        node.params
+        let (i, p) = node
+            .params
             .iter()
-            .position(|p| p.name == name)
-            .unwrap_or_else(|| panic!("node `{}` has no parameter `{name}`", node.name))
+            .enumerate()
+            .find(|(_, p)| p.name == name)
+            .unwrap_or_else(|| panic!("node `{}` has no parameter `{name}`", node.name));
+        let found = p.dist.kind();
+        if found != kind {
+            panic!(
+                "parameter `{name}` of node `{}` is {}, not {}: read it with `input.{}(\"{name}\")`",
+                node.name,
+                kind_name(found),
+                kind_name(kind),
+                accessor(found)
+            );
+        }
+        i
     }
 
-    /// The `f32` parameter `name`. Panics if the node has no such parameter.
+    /// The `f32` parameter `name`. Panics if the node has no such parameter
+    /// or it is of another kind.
     #[must_use]
     pub fn f32(&self, name: &str) -> f32 {
-        self.gene.param_f32(self.index(name))
+        self.gene.param_f32(self.index(name, ParamKind::F32))
     }
 
-    /// The vec2 parameter `name`.
+    /// The vec2 parameter `name` (panics like [`f32`](Self::f32)).
     #[must_use]
     pub fn vec2(&self, name: &str) -> Vec2 {
-        Vec2::from(self.gene.param_vec2(self.index(name)))
+        Vec2::from(self.gene.param_vec2(self.index(name, ParamKind::Vec2)))
     }
 
-    /// The vec3 parameter `name`.
+    /// The vec3 parameter `name` (panics like [`f32`](Self::f32)).
     #[must_use]
     pub fn vec3(&self, name: &str) -> Vec3 {
-        Vec3::from(self.gene.param_vec3(self.index(name)))
+        Vec3::from(self.gene.param_vec3(self.index(name, ParamKind::Vec3)))
     }
 
-    /// The integer parameter `name`.
+    /// The integer parameter `name` (panics like [`f32`](Self::f32)).
     #[must_use]
     pub fn int(&self, name: &str) -> i32 {
-        self.gene.param_int(self.index(name))
+        self.gene.param_int(self.index(name, ParamKind::Int))
     }
 
-    /// The choice parameter `name` (an option index).
+    /// The choice parameter `name`, an option index (panics like [`f32`](Self::f32)).
     #[must_use]
     pub fn choice(&self, name: &str) -> u32 {
-        self.gene.param_choice(self.index(name))
+        self.gene.param_choice(self.index(name, ParamKind::Choice))
     }
 
     /// The gene being expressed.
@@ -326,5 +364,49 @@ impl<St> NodeOut<St> for RuleOutput<'_, St> {
 
     fn is_expressed(&self, slot: SlotRef<'_>) -> bool {
         self.gene.child(self.slot_by_name(slot)).is_some()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::express::{Instances, Scope};
+    use crate::graph::{GraphBuilder, IntDist};
+
+    fn counter() -> Interpreter {
+        let graph = GraphBuilder::new("counter")
+            .start("Row")
+            .node("Row", |n| {
+                n.emits().param_int("count", IntDist::uniform(6, 6))
+            })
+            .build()
+            .unwrap();
+        Interpreter::new(graph, ["cube"], Scope::UNIT)
+            .rule("Row", |input, scope, out| {
+                // Reads the int as an f32: a mistake that must not pass silently.
+                let width = input.f32("count");
+                out.emit(
+                    "cube",
+                    scope.translated(Vec3::new(width, 0.0, 0.0)).instance(),
+                );
+            })
+            .build()
+            .unwrap()
+    }
+
+    #[test]
+    #[should_panic(
+        expected = "parameter `count` of node `Row` is an int, not an f32: read it with `input.int(\"count\")`"
+    )]
+    fn reading_a_parameter_as_another_kind_fails_loudly() {
+        let g = counter();
+        let c = crate::ops::default_model(g.graph()).unwrap();
+        g.express(&c, &mut Instances::default());
+    }
+
+    #[test]
+    fn int_distributions_have_constructors() {
+        assert_eq!(IntDist::uniform(1, 3), IntDist::Uniform { lo: 1, hi: 3 });
+        assert_eq!(IntDist::constant(4), IntDist::Constant { value: 4 });
     }
 }

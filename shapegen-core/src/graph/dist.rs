@@ -217,6 +217,18 @@ pub enum IntDist {
 }
 
 impl IntDist {
+    /// Uniform over `lo..=hi` (both included).
+    #[must_use]
+    pub const fn uniform(lo: i32, hi: i32) -> Self {
+        Self::Uniform { lo, hi }
+    }
+
+    /// Always `value`.
+    #[must_use]
+    pub const fn constant(value: i32) -> Self {
+        Self::Constant { value }
+    }
+
     /// Why the support is empty, if it is.
     pub fn problem(&self) -> Option<&'static str> {
         match *self {
