@@ -60,17 +60,17 @@ pub fn weights_from_logs(logs: &[f64]) -> Vec<f64> {
 /// approximates `p · u` in feature space; divided by the unweighted estimate
 /// of `p` from the same models, it gives the weight over a model set drawn
 /// from `p` ([`WeightedKde::weight`]).
-#[derive(Clone, Debug)]
-pub struct WeightedKde {
-    x: Vec<Vec<f64>>,
-    scores: Vec<f64>,
+#[derive(Clone, Copy, Debug)]
+pub struct WeightedKde<'a> {
+    x: &'a [Vec<f64>],
+    scores: &'a [f64],
     bandwidth: f64,
 }
 
-impl WeightedKde {
+impl<'a> WeightedKde<'a> {
     /// An estimate from feature vectors `x` with scores (0–100).
     #[must_use]
-    pub fn new(x: Vec<Vec<f64>>, scores: Vec<f64>, bandwidth: f64) -> Self {
+    pub fn new(x: &'a [Vec<f64>], scores: &'a [f64], bandwidth: f64) -> Self {
         Self {
             x,
             scores,
@@ -84,7 +84,7 @@ impl WeightedKde {
     pub fn weight(&self, x: &[f64]) -> f64 {
         let h2 = 2.0 * self.bandwidth * self.bandwidth;
         let (mut num, mut den) = (0.0, 0.0);
-        for (xi, &s) in self.x.iter().zip(&self.scores) {
+        for (xi, &s) in self.x.iter().zip(self.scores) {
             let d2: f64 = xi.iter().zip(x).map(|(a, b)| (a - b) * (a - b)).sum();
             let k = (-d2 / h2).exp();
             num += s * k;

@@ -33,7 +33,8 @@ use crate::DesignError;
 use crate::divergence::{WeightedKde, jensen_shannon, weights_from_logs};
 use crate::preference::{Factor, FactorOptions, Preference};
 use crate::sampler::{
-    Learner, RejectionSampler, StructureOptions, StructureReport, learn_pdf, parameter_learning,
+    LearnedPdf, Learner, RejectionSampler, StructureOptions, StructureReport, learn_pdf,
+    parameter_learning,
 };
 
 /// A known score function (0–100) for one factor of a task.
@@ -198,14 +199,13 @@ pub fn evaluate(task: &Task, options: &EvalOptions) -> Result<EvalReport, Design
         .collect::<Result<_, _>>()?;
     let acceptance = training.len() as f64 / rejection.proposals().max(1) as f64;
 
-    let parameter = parameter_learning(g, &training)?.sampler(g)?;
-    let q: Vec<f64> = weights_from_logs(
-        &eval
-            .par_iter()
-            .map(|m| parameter.log_ratio(m))
-            .collect::<Vec<_>>(),
-    );
-    let js_parameter = js(&q);
+    // A learned sampler's pdf over the evaluation set: weights q(m)/p(m).
+    let js_learned = |pdf: &LearnedPdf| -> Result<f64, DesignError> {
+        let sampler = pdf.sampler(g)?;
+        let logs: Vec<f64> = eval.par_iter().map(|m| sampler.log_ratio(m)).collect();
+        Ok(js(&weights_from_logs(&logs)))
+    };
+    let js_parameter = js_learned(&parameter_learning(g, &training)?)?;
 
     // Relevance and kernel from a GPR on scored default samples.
     let fit_models = draw(g, options.fit_models, options.seed, 2)?;
@@ -218,14 +218,7 @@ pub fn evaluate(task: &Task, options: &EvalOptions) -> Result<EvalReport, Design
         options.structure,
     )?;
     let structure = structure.unwrap_or_default();
-    let learned = pdf.sampler(g)?;
-    let q: Vec<f64> = weights_from_logs(
-        &eval
-            .par_iter()
-            .map(|m| learned.log_ratio(m))
-            .collect::<Vec<_>>(),
-    );
-    let js_structure = js(&q);
+    let js_structure = js_learned(&pdf)?;
 
     // Learning curves on the same scored default samples.
     let max_scored = options.scored.iter().copied().max().unwrap_or(0);
@@ -245,7 +238,7 @@ pub fn evaluate(task: &Task, options: &EvalOptions) -> Result<EvalReport, Design
             .kde_bandwidths
             .iter()
             .map(|&h| {
-                let k = WeightedKde::new(x.clone(), truth_scored[..n].to_vec(), h);
+                let k = WeightedKde::new(&x, &truth_scored[..n], h);
                 let q: Vec<f64> = xe.par_iter().map(|v| k.weight(v)).collect();
                 (js(&q), h)
             })
@@ -304,7 +297,7 @@ pub fn evaluate(task: &Task, options: &EvalOptions) -> Result<EvalReport, Design
         js_parameter,
         js_structure,
         acceptance,
-        components: learned.components(),
+        components: pdf.components.len(),
         structure,
         gpr_reaches_001: reaches(|p| p.gpr),
         kde_reaches_001: reaches(|p| p.kde),

@@ -63,23 +63,18 @@ const RESTARTS_DEFAULT: usize = 1;
 /// A fitted Gaussian process: training inputs, hyperparameters and the
 /// factorization that predictions reuse.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-#[serde(from = "StoredGp", into = "StoredGp")]
+#[serde(try_from = "Fit", into = "Fit")]
 pub struct Gp {
-    x: Vec<Vec<f64>>,
-    y: Vec<f64>,
-    theta0: f64,
-    theta: Vec<f64>,
-    options: GpOptions,
-    energy: f64,
+    fit: Fit,
     /// `C⁻¹ y`.
     alpha: DVector<f64>,
     chol: Cholesky<f64, Dyn>,
 }
 
-/// A [`Gp`] as stored: what it was fitted on and the hyperparameters found;
-/// the factorization is recomputed on load.
-#[derive(Clone, Serialize, Deserialize)]
-struct StoredGp {
+/// What a [`Gp`] was fitted on and the hyperparameters found: all that is
+/// stored; the factorization is recomputed from it.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+struct Fit {
     x: Vec<Vec<f64>>,
     y: Vec<f64>,
     theta0: f64,
@@ -88,42 +83,21 @@ struct StoredGp {
     energy: f64,
 }
 
-impl From<Gp> for StoredGp {
-    fn from(g: Gp) -> Self {
-        Self {
-            x: g.x,
-            y: g.y,
-            theta0: g.theta0,
-            theta: g.theta,
-            options: g.options,
-            energy: g.energy,
-        }
+impl TryFrom<Fit> for Gp {
+    type Error = DesignError;
+
+    /// Factorizes the covariance; a (hand-edited) fit whose covariance is
+    /// not positive definite is an error.
+    fn try_from(fit: Fit) -> Result<Self, DesignError> {
+        let (chol, alpha) = factor(&fit.x, &fit.y, fit.theta0, &fit.theta, fit.options.noise)
+            .ok_or(DesignError::NotPositiveDefinite)?;
+        Ok(Self { fit, alpha, chol })
     }
 }
 
-impl From<StoredGp> for Gp {
-    fn from(s: StoredGp) -> Self {
-        // A stored process was factorized once already; if a file was edited
-        // into a non-positive-definite one, fall back to more jitter.
-        let (chol, alpha) = factor(&s.x, &s.y, s.theta0, &s.theta, s.options.noise)
-            .or_else(|| factor(&s.x, &s.y, s.theta0, &s.theta, s.options.noise + 1e-3))
-            .unwrap_or_else(|| {
-                let n = s.y.len().max(1);
-                let c = DMatrix::identity(n, n)
-                    .cholesky()
-                    .expect("identity is positive definite");
-                (c, DVector::zeros(n))
-            });
-        Self {
-            x: s.x,
-            y: s.y,
-            theta0: s.theta0,
-            theta: s.theta,
-            options: s.options,
-            energy: s.energy,
-            alpha,
-            chol,
-        }
+impl From<Gp> for Fit {
+    fn from(g: Gp) -> Self {
+        g.fit
     }
 }
 
@@ -164,6 +138,7 @@ fn factor(
 }
 
 /// The ARD energy over `φ = ln θ` (θ₀ first).
+#[derive(Clone, Copy)]
 struct Energy<'a> {
     x: &'a [Vec<f64>],
     y: &'a [f64],
@@ -256,16 +231,10 @@ impl Gradient for Energy<'_> {
 
 impl Gp {
     /// Fits a process to feature vectors `x` with scores `scores` (0–100),
-    /// choosing the hyperparameters by ARD. `start` optionally gives initial
-    /// hyperparameters `(θ₀, θ)` (e.g. the previous fit's, when a few scores
-    /// were added); otherwise `θ₀` starts at the mean squared preference and
-    /// every `θ_d` at `2 / D`.
-    pub fn fit(
-        x: Vec<Vec<f64>>,
-        scores: &[f64],
-        options: GpOptions,
-        start: Option<(f64, &[f64])>,
-    ) -> Result<Self, DesignError> {
+    /// choosing the hyperparameters by ARD: `θ₀` starts at the mean squared
+    /// preference and every `θ_d` at `2 / D` (and 10× smaller and larger
+    /// with [`GpOptions::restarts`]).
+    pub fn fit(x: Vec<Vec<f64>>, scores: &[f64], options: GpOptions) -> Result<Self, DesignError> {
         if x.is_empty() {
             return Err(DesignError::NoScores);
         }
@@ -289,22 +258,15 @@ impl Gp {
         }
         let y: Vec<f64> = scores.iter().map(|s| s / 100.0).collect();
         let mean_sq = y.iter().map(|v| v * v).sum::<f64>() / y.len() as f64;
-        let starts: Vec<Vec<f64>> = match start {
-            Some((t0, t)) if t.len() == d => vec![
-                std::iter::once(t0.max(1e-6).ln())
-                    .chain(t.iter().map(|v| v.max(1e-6).ln()))
-                    .collect(),
-            ],
-            _ => [1.0, 0.1, 10.0]
-                .iter()
-                .take(options.restarts.clamp(1, 3))
-                .map(|&f| {
-                    std::iter::once(mean_sq.max(0.01).ln())
-                        .chain(std::iter::repeat_n((f * 2.0 / d.max(1) as f64).ln(), d))
-                        .collect()
-                })
-                .collect(),
-        };
+        let starts: Vec<Vec<f64>> = [1.0, 0.1, 10.0]
+            .iter()
+            .take(options.restarts.clamp(1, 3))
+            .map(|&f| {
+                std::iter::once(mean_sq.max(0.01).ln())
+                    .chain(std::iter::repeat_n((f * 2.0 / d.max(1) as f64).ln(), d))
+                    .collect()
+            })
+            .collect();
         let energy = Energy {
             x: &x,
             y: &y,
@@ -314,21 +276,14 @@ impl Gp {
         for phi in starts {
             let initial = energy.eval(&phi, false).map_or(f64::INFINITY, |e| e.0);
             let solver = LBFGS::new(MoreThuenteLineSearch::new(), 7);
-            let found = Executor::new(
-                Energy {
-                    x: &x,
-                    y: &y,
-                    options,
-                },
-                solver,
-            )
-            .configure(|s| s.param(phi.clone()).max_iters(options.max_iters))
-            .run()
-            .ok()
-            .and_then(|r| {
-                let st = r.state();
-                Some((st.get_best_param()?.clone(), st.get_best_cost()))
-            });
+            let found = Executor::new(energy, solver)
+                .configure(|s| s.param(phi.clone()).max_iters(options.max_iters))
+                .run()
+                .ok()
+                .and_then(|r| {
+                    let st = r.state();
+                    Some((st.get_best_param()?.clone(), st.get_best_cost()))
+                });
             // Keep the start if the search failed or did not improve on it.
             let candidate = match found {
                 Some((p, c)) if c.is_finite() && c <= initial => (p, c),
@@ -338,19 +293,15 @@ impl Gp {
                 best = Some(candidate);
             }
         }
-        let (phi, best) = best.expect("at least one start");
+        let (phi, energy) = best.expect("at least one start");
         let (theta0, theta) = thetas(&phi);
-        let (chol, alpha) = factor(&x, &y, theta0, &theta, options.noise)
-            .ok_or(DesignError::NotPositiveDefinite)?;
-        Ok(Self {
+        Self::try_from(Fit {
             x,
             y,
             theta0,
             theta,
             options,
-            energy: best,
-            alpha,
-            chol,
+            energy,
         })
     }
 
@@ -366,8 +317,6 @@ impl Gp {
             return Err(DesignError::NoScores);
         }
         let y: Vec<f64> = scores.iter().map(|s| s / 100.0).collect();
-        let (chol, alpha) = factor(&x, &y, theta0, &theta, options.noise)
-            .ok_or(DesignError::NotPositiveDefinite)?;
         let energy = Energy {
             x: &x,
             y: &y,
@@ -380,15 +329,13 @@ impl Gp {
             false,
         )
         .map_or(f64::NAN, |e| e.0);
-        Ok(Self {
+        Self::try_from(Fit {
             x,
             y,
             theta0,
             theta,
             options,
             energy,
-            alpha,
-            chol,
         })
     }
 
@@ -396,10 +343,11 @@ impl Gp {
     #[must_use]
     pub fn predict(&self, x: &[f64]) -> (f64, f64) {
         let k = DVector::from_iterator(
-            self.x.len(),
-            self.x
+            self.fit.x.len(),
+            self.fit
+                .x
                 .iter()
-                .map(|xi| kernel(xi, x, self.theta0, &self.theta)),
+                .map(|xi| kernel(xi, x, self.fit.theta0, &self.fit.theta)),
         );
         let mean = k.dot(&self.alpha);
         let v = self
@@ -407,7 +355,7 @@ impl Gp {
             .l_dirty()
             .solve_lower_triangular(&k)
             .unwrap_or_else(|| DVector::zeros(k.len()));
-        let var = (self.theta0 + self.options.noise - v.dot(&v)).max(0.0);
+        let var = (self.fit.theta0 + self.fit.options.noise - v.dot(&v)).max(0.0);
         (100.0 * mean, 1e4 * var)
     }
 
@@ -415,47 +363,47 @@ impl Gp {
     /// that sorting by resemblance and clustering use.
     #[must_use]
     pub fn similarity(&self, a: &[f64], b: &[f64]) -> f64 {
-        kernel(a, b, self.theta0, &self.theta)
+        kernel(a, b, self.fit.theta0, &self.fit.theta)
     }
 
     /// `θ₀`, the kernel's amplitude.
     #[must_use]
     pub fn amplitude(&self) -> f64 {
-        self.theta0
+        self.fit.theta0
     }
 
     /// The feature weights `θ_d`.
     #[must_use]
     pub fn weights(&self) -> &[f64] {
-        &self.theta
+        &self.fit.theta
     }
 
     /// The indices of features whose weight is at least `threshold` (ARD's
-    /// relevant features; features lie in about `[0, 1]`, so a weight below
-    /// 0.01 changes the kernel by less than 1 % across a feature's range).
+    /// relevant features; see [`Factor::relevant_nodes`](crate::Factor::relevant_nodes)
+    /// for the threshold structure learning uses).
     #[must_use]
     pub fn relevant(&self, threshold: f64) -> Vec<usize> {
-        (0..self.theta.len())
-            .filter(|&d| self.theta[d] >= threshold)
+        (0..self.fit.theta.len())
+            .filter(|&d| self.fit.theta[d] >= threshold)
             .collect()
     }
 
     /// The minimized energy (negative log marginal likelihood plus lasso).
     #[must_use]
     pub fn energy(&self) -> f64 {
-        self.energy
+        self.fit.energy
     }
 
     /// Number of training points.
     #[must_use]
     pub fn len(&self) -> usize {
-        self.y.len()
+        self.fit.y.len()
     }
 
     /// Whether it has no training points (never, once fitted).
     #[must_use]
     pub fn is_empty(&self) -> bool {
-        self.y.is_empty()
+        self.fit.y.is_empty()
     }
 }
 

@@ -92,7 +92,7 @@ impl Factor {
                 features.path_length += 1;
                 continue;
             }
-            let gp = Gp::fit(x, scores, options.gp, None)?;
+            let gp = Gp::fit(x, scores, options.gp)?;
             return Ok(Self {
                 name: name.to_string(),
                 space,

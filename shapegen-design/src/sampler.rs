@@ -413,25 +413,8 @@ impl LearnedPdf {
                     c.weight
                 )));
             }
-            // The component's supports must lie within the original's.
             let graph = Graph::new(c.graph.clone().with_limits(*base.limits()))?;
-            for (i, &o) in origin.iter().enumerate() {
-                for (a, b) in graph
-                    .node(i as NodeId)
-                    .params
-                    .iter()
-                    .zip(base.node(o).params.iter())
-                {
-                    if !within_support(&a.dist, &b.dist) {
-                        return Err(DesignError::Invalid(format!(
-                            "parameter `{}` of `{}` leaves the original's support",
-                            a.name,
-                            graph.node(i as NodeId).name
-                        )));
-                    }
-                }
-            }
-            let s = SplitGraph::from_parts(base, graph.clone(), origin.clone())?;
+            let s = checked_copy(base, graph.clone(), origin.clone())?;
             if split.is_none() {
                 split = Some(s);
             }
@@ -451,13 +434,12 @@ impl LearnedPdf {
             .iter()
             .map(|(_, g)| events.probabilities(g).iter().map(|p| p.ln()).collect())
             .collect();
-        let default = SplitGraph::from_parts(base, split.graph().clone(), origin)?;
         // The default pdf's table: the base graph's probabilities copied to every split node.
         let base_spec = {
             let mut spec = split.graph().spec().clone();
             let nodes = spec.nodes.to_mut();
             for (i, n) in nodes.iter_mut().enumerate() {
-                let o = base.node(default.origin()[i]);
+                let o = base.node(split.origin()[i]);
                 n.params = o.params.clone();
                 for (s, t) in n.slots.to_mut().iter_mut().zip(o.slots.iter()) {
                     s.p = t.p;
@@ -492,9 +474,7 @@ impl LearnedPdf {
             cumulative,
         })
     }
-}
 
-impl LearnedPdf {
     /// The graph an optimizer grows and alters with under this pdf:
     /// `base` (with its limits) with the learned slot probabilities and
     /// choice weights of [`LearnedPdf::marginal`]. It has `base`'s nodes, so
@@ -512,30 +492,11 @@ impl LearnedPdf {
                 "the marginal graph is not the generator's".into(),
             ));
         }
-        // Supports within the base's: the same check as the components'.
-        SplitGraph::from_parts(
+        checked_copy(
             base,
             graph.clone(),
             (0..base.node_count() as NodeId).collect(),
         )?;
-        for n in 0..base.node_count() as NodeId {
-            for (a, b) in graph.node(n).params.iter().zip(base.node(n).params.iter()) {
-                if !within_support(&a.dist, &b.dist) {
-                    return Err(DesignError::Invalid(format!(
-                        "parameter `{}` leaves the original's support",
-                        a.name
-                    )));
-                }
-            }
-            for (a, b) in graph.node(n).slots.iter().zip(base.node(n).slots.iter()) {
-                if (b.p == 0.0 || b.p == 1.0) && a.p != b.p {
-                    return Err(DesignError::Invalid(format!(
-                        "slot `{}` of `{}` changed a certain probability",
-                        a.name, b.name
-                    )));
-                }
-            }
-        }
         Ok(graph)
     }
 }
@@ -579,6 +540,39 @@ impl LearnedSampler {
     pub fn split_nodes(&self) -> usize {
         self.split.graph().node_count()
     }
+}
+
+/// `graph` as a copy of `base` (see [`SplitGraph::from_parts`]) whose
+/// learned distributions keep to the original's supports, and whose slots of
+/// probability 0 or 1 are unchanged: what every graph of a [`LearnedPdf`]
+/// must be.
+fn checked_copy(
+    base: &Graph,
+    graph: Graph,
+    origin: Vec<NodeId>,
+) -> Result<SplitGraph, DesignError> {
+    let split = SplitGraph::from_parts(base, graph, origin)?;
+    let graph = split.graph();
+    for (i, &o) in split.origin().iter().enumerate() {
+        let (ours, theirs) = (graph.node(i as NodeId), base.node(o));
+        for (a, b) in ours.params.iter().zip(theirs.params.iter()) {
+            if !within_support(&a.dist, &b.dist) {
+                return Err(DesignError::Invalid(format!(
+                    "parameter `{}` of `{}` leaves the original's support",
+                    a.name, ours.name
+                )));
+            }
+        }
+        for (a, b) in ours.slots.iter().zip(theirs.slots.iter()) {
+            if (b.p == 0.0 || b.p == 1.0) && a.p != b.p {
+                return Err(DesignError::Invalid(format!(
+                    "slot `{}` of `{}` changed a certain probability",
+                    a.name, ours.name
+                )));
+            }
+        }
+    }
+    Ok(split)
 }
 
 /// Whether a learned parameter distribution keeps to the original's support:

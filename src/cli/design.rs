@@ -303,7 +303,7 @@ fn export(cli: &Cli, args: &DesignExportArgs) -> Result<(), CliError> {
         SamplerArg::Structure => Learner::Structure,
         SamplerArg::Parameter => Learner::Parameter,
     };
-    let mut rng = crate::rng::stream(args.seed.unwrap_or(session.seed), &[0x6578_706f]);
+    let mut rng = session.export_stream(args.seed);
     let (pdf, report, acceptance) = session
         .export(
             experiment.graph(),

@@ -220,56 +220,62 @@ impl DesignServer {
             .unwrap_or_else(std::sync::PoisonError::into_inner)
     }
 
+    /// A change to the session, as one transaction: the action works on a
+    /// copy, which is saved with the next revision and only then replaces
+    /// the session in memory, so a refused or failed request leaves memory
+    /// and disk as they were.
     fn post(&self, action: &str, query: &str, body: &[u8]) -> Reply {
         fn parse<'a, T: Deserialize<'a>>(body: &'a [u8]) -> Result<T, Reply> {
             serde_json::from_slice(body)
                 .map_err(|e| Reply::error(400, format!("malformed request: {e}")))
         }
+        let graph = self.experiment.graph();
+        let refit = |session: &mut Session| -> Result<(), Reply> {
+            if session.stale {
+                session
+                    .learn(graph, FactorOptions::default())
+                    .map_err(|e| Reply::error(422, e.to_string()))?;
+            }
+            Ok(())
+        };
         let mut state = self.lock();
-        let check = |state: &State, revision: Option<u64>| -> Result<(), Reply> {
+        let current = state.session.revision;
+        let check = |revision: Option<u64>| -> Result<(), Reply> {
             match revision {
-                Some(r) if r != state.session.revision => Err(Reply::error(
+                Some(r) if r != current => Err(Reply::error(
                     409,
                     "the session was changed in another tab or window since this page loaded it: reload the page to see its current state (nothing was changed)",
                 )),
                 _ => Ok(()),
             }
         };
-        let graph = self.experiment.graph();
-        let result: Result<(), Reply> = (|| match action {
+        let mut next = state.session.clone();
+        let mut thumbnails = Vec::new();
+        // Whether `next` differs from the saved session.
+        let result: Result<bool, Reply> = (|| match action {
             "sample" => {
                 let r: SampleRequest = parse(body)?;
-                check(&state, r.revision)?;
+                check(r.revision)?;
                 if r.count == 0 || r.count > 200 {
                     return Err(Reply::error(
                         400,
                         format!("count must be 1 to 200, got {}", r.count),
                     ));
                 }
-                if state.session.stale {
-                    state
-                        .session
-                        .learn(graph, FactorOptions::default())
-                        .map_err(|e| Reply::error(422, e.to_string()))?;
-                }
-                let shown = state
-                    .session
+                refit(&mut next)?;
+                let shown = next
                     .sample(graph, r.mode, r.count)
                     .map_err(|e| Reply::error(422, e.to_string()))?;
-                let pictures: Vec<(u64, Result<Vec<u8>, String>)> = shown
+                thumbnails = shown
                     .par_iter()
-                    .map(|s| (s.id, self.render(&s.model, self.thumbnail)))
-                    .collect();
-                for (id, png) in pictures {
-                    state
-                        .thumbnails
-                        .insert(id, png.map_err(|e| Reply::error(500, e))?);
-                }
-                self.save(&mut state)
+                    .map(|s| self.render(&s.model, self.thumbnail).map(|png| (s.id, png)))
+                    .collect::<Result<_, _>>()
+                    .map_err(|e| Reply::error(500, e))?;
+                Ok(true)
             }
             "score" => {
                 let r: ScoreRequest = parse(body)?;
-                check(&state, r.revision)?;
+                check(r.revision)?;
                 // All checked before any is applied: a bad one changes nothing.
                 if let Some(bad) = r.scores.iter().find(|s| !(0.0..=100.0).contains(&s.score)) {
                     return Err(Reply::error(
@@ -277,17 +283,15 @@ impl DesignServer {
                         format!("score {} of model {} is outside 0..=100", bad.score, bad.id),
                     ));
                 }
-                let mut next = state.session.clone();
                 for s in &r.scores {
                     next.score(s.id, s.score)
                         .map_err(|e| Reply::error(404, e.to_string()))?;
                 }
-                state.session = next;
-                self.save(&mut state)
+                Ok(true)
             }
             "factor" => {
                 let r: FactorRequest = parse(body)?;
-                check(&state, r.revision)?;
+                check(r.revision)?;
                 let name = r.name.trim();
                 if name.is_empty() || name.len() > 80 {
                     return Err(Reply::error(
@@ -296,74 +300,61 @@ impl DesignServer {
                     ));
                 }
                 match r.active {
-                    None => state.session.select_factor(name),
-                    Some(active) => state
-                        .session
+                    None => next.select_factor(name),
+                    Some(active) => next
                         .set_active(name, active)
                         .map_err(|e| Reply::error(404, e.to_string()))?,
                 }
-                self.save(&mut state)
+                Ok(true)
             }
             "learn" => {
                 let r: RevisionOnly = parse(body)?;
-                check(&state, r.revision)?;
-                state
-                    .session
-                    .learn(graph, FactorOptions::default())
+                check(r.revision)?;
+                next.learn(graph, FactorOptions::default())
                     .map_err(|e| Reply::error(422, e.to_string()))?;
-                self.save(&mut state)
+                Ok(true)
             }
             "export" => {
                 let r: RevisionOnly = parse(body)?;
-                check(&state, r.revision)?;
-                if state.session.stale {
-                    state
-                        .session
-                        .learn(graph, FactorOptions::default())
-                        .map_err(|e| Reply::error(422, e.to_string()))?;
-                    self.save(&mut state)?;
-                }
-                let mut rng = crate::rng::stream(state.session.seed, &[0x6578_706f]);
-                let (pdf, _, _) = state
-                    .session
+                check(r.revision)?;
+                let refitted = next.stale;
+                refit(&mut next)?;
+                let (pdf, _, _) = next
                     .export(
                         graph,
                         Learner::Structure,
                         1000,
                         StructureOptions::default(),
-                        &mut rng,
+                        &mut next.export_stream(None),
                     )
                     .map_err(|e| Reply::error(422, e.to_string()))?;
                 crate::output::write_json(&self.learned_path, &pdf)
                     .map_err(|e| Reply::error(500, e.to_string()))?;
-                Ok(())
+                Ok(refitted)
             }
             other => Err(Reply::error(404, format!("no API call `{other}`"))),
         })();
-        match result {
-            Ok(()) => {
-                drop(state);
-                let mut reply = self.state_reply(query);
-                if action == "export"
-                    && let Ok(mut v) = serde_json::from_slice::<serde_json::Value>(&reply.body)
-                {
-                    v["exported"] = json!(self.learned_path.display().to_string());
-                    reply = Reply::json(200, &v);
-                }
-                reply
+        let changed = match result {
+            Ok(changed) => changed,
+            Err(reply) => return reply,
+        };
+        if changed {
+            next.revision += 1;
+            if let Err(e) = next.save(&self.path) {
+                return Reply::error(500, format!("cannot save the session: {e}"));
             }
-            Err(reply) => reply,
+            state.session = next;
         }
-    }
-
-    /// Saves the session with the next revision; on failure nothing changes
-    /// on disk and the in-memory revision stays.
-    fn save(&self, state: &mut State) -> Result<(), Reply> {
-        state.session.revision += 1;
-        state.session.save(&self.path).map_err(|e| {
-            state.session.revision -= 1;
-            Reply::error(500, format!("cannot save the session: {e}"))
-        })
+        state.thumbnails.extend(thumbnails);
+        drop(state);
+        let mut reply = self.state_reply(query);
+        if action == "export"
+            && let Ok(mut v) = serde_json::from_slice::<serde_json::Value>(&reply.body)
+        {
+            v["exported"] = json!(self.learned_path.display().to_string());
+            reply = Reply::json(200, &v);
+        }
+        reply
     }
 
     /// A thumbnail from the default model's best view, as the thesis's

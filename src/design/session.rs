@@ -493,8 +493,16 @@ impl Session {
         Ok(self.learned.insert(Preference { factors }))
     }
 
+    /// The random stream [`export`](Self::export) draws from by default:
+    /// derived from `seed`, else the session's seed.
+    #[must_use]
+    pub fn export_stream(&self, seed: Option<u64>) -> crate::rng::ShapeRng {
+        crate::rng::stream(seed.unwrap_or(self.seed), &[0x6578_706f])
+    }
+
     /// Draws `training` models from the learned preference (rejection
-    /// sampling, seed `seed`) and fits a learned pdf with `learner`.
+    /// sampling with `rng`, e.g. [`export_stream`](Self::export_stream))
+    /// and fits a learned pdf with `learner`.
     pub fn export<R: Rng>(
         &self,
         graph: &Graph,
