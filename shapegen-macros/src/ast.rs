@@ -1,6 +1,6 @@
 //! The macro's own model of a `generator!` declaration.
 
-use proc_macro2::TokenStream;
+use proc_macro2::{Span, TokenStream};
 use syn::{Attribute, Expr, Ident, Pat, Path, Type, Visibility};
 
 /// The whole declaration.
@@ -18,6 +18,20 @@ pub struct Generator {
     pub nodes: Vec<Node>,
 }
 
+impl Generator {
+    /// Every graph node in id order: (its declaration, its index among the members).
+    pub fn members(&self) -> impl Iterator<Item = (&Node, usize)> {
+        self.nodes
+            .iter()
+            .flat_map(|n| (0..n.members.len()).map(move |m| (n, m)))
+    }
+
+    /// Number of graph nodes (a family counts once per member).
+    pub fn node_count(&self) -> usize {
+        self.nodes.iter().map(|n| n.members.len()).sum()
+    }
+}
+
 #[derive(Default)]
 pub struct Limits {
     pub max_depth: Option<Expr>,
@@ -25,23 +39,80 @@ pub struct Limits {
     pub max_len: Option<Expr>,
 }
 
+/// One `node` declaration: a single node, or a family of nodes (`node b, n, m`)
+/// that share one body and differ only in `each[...]` values.
 pub struct Node {
-    pub name: Ident,
+    /// The graph nodes declared (one name for a single node).
+    pub members: Vec<Ident>,
     pub emits: bool,
+    pub consts: Vec<Const>,
     pub params: Vec<Param>,
     pub slots: Vec<Slot>,
     /// The state binding of the body closure (`|scope|`, `|mut s|`).
     pub binder: Pat,
-    /// The body's tokens (a block).
+    /// The body's tokens (a brace-delimited group).
     pub body: TokenStream,
+}
+
+impl Node {
+    /// The name the declaration goes by in messages and generated items: its first member.
+    pub fn name(&self) -> &Ident {
+        &self.members[0]
+    }
+
+    /// Whether this declares a family of several nodes.
+    pub fn is_family(&self) -> bool {
+        self.members.len() > 1
+    }
+}
+
+/// A value that is either the same for every member of a node family or
+/// given per member with `each[v0, v1, ...]`.
+pub enum PerMember<T> {
+    Shared(T),
+    Each {
+        /// The `each[...]` tokens, for errors.
+        span: Span,
+        values: Vec<T>,
+    },
+}
+
+impl<T> PerMember<T> {
+    /// The value for member `m` (the last one if `each` has too few; checked separately).
+    pub fn get(&self, m: usize) -> &T {
+        match self {
+            Self::Shared(v) => v,
+            Self::Each { values, .. } => &values[m.min(values.len() - 1)],
+        }
+    }
+
+    /// Every distinct value written.
+    pub fn all(&self) -> &[T] {
+        match self {
+            Self::Shared(v) => std::slice::from_ref(v),
+            Self::Each { values, .. } => values,
+        }
+    }
+}
+
+/// A named constant of a node's body: `attach: f32 = 0.38` or `each[...]`.
+pub struct Const {
+    pub name: Ident,
+    pub ty: Type,
+    pub value: PerMember<Expr>,
 }
 
 pub struct Param {
     pub name: Ident,
     pub kind: Kind,
+    pub dist: PerMember<DistCall>,
+}
+
+/// A distribution as written: `uniform(0, 1)`.
+pub struct DistCall {
     pub dist: Ident,
     pub args: Vec<Expr>,
-    /// The distribution call's tokens (`uniform(0, 1)`), for errors spanning it.
+    /// The call's tokens (`uniform(0, 1)`), for errors spanning it.
     pub call: TokenStream,
 }
 
@@ -55,6 +126,9 @@ pub enum Kind {
 }
 
 impl Kind {
+    /// The keywords of parameter types, as written.
+    pub const NAMES: [&'static str; 5] = ["f32", "vec2", "vec3", "int", "choice"];
+
     pub fn from_ident(i: &Ident) -> Option<Self> {
         Some(match i.to_string().as_str() {
             "f32" => Self::F32,
@@ -88,18 +162,19 @@ impl Kind {
 
 pub struct Slot {
     pub name: Ident,
-    /// For a slot array `name[N]`: the literal `N`.
-    pub count: Option<syn::LitInt>,
+    /// For a slot array `name[N]`: the length `N`, a literal or a constant expression.
+    pub count: Option<Expr>,
     pub target: Ident,
-    pub p: Expr,
+    pub p: PerMember<Expr>,
 }
 
 impl Slot {
-    /// Number of graph slots this declaration stands for (0 if the count is malformed).
-    pub fn len(&self) -> usize {
+    /// The array length if it is a number literal; `None` for a constant
+    /// expression (known only when the generated code compiles).
+    pub fn literal_len(&self) -> Option<usize> {
         match &self.count {
-            None => 1,
-            Some(n) => n.base10_parse().unwrap_or(0),
+            None => Some(1),
+            Some(e) => crate::eval::integer(e),
         }
     }
 }

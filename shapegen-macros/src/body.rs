@@ -1,80 +1,84 @@
-//! Rewriting a node body's `emit!(shape, transform)` and `child!(slot, state)`.
+//! A node body's pseudo-macros: `emit!(shape, transform)`,
+//! `child!(slot, state)` and `expressed!(slot)`.
 //!
-//! The body is ordinary Rust; only these two pseudo-macros are replaced, by
-//! calls on the node's output (`NodeOut`) with the shape or slot resolved to
-//! a constant index. Unknown names are reported with the name's span; every
-//! other token keeps its span, so type errors point into the user's body.
+//! The body is ordinary Rust. [`calls`] finds the pseudo-macros for the
+//! checks; after the checks pass, [`rewrite`] replaces each by a call on the
+//! node's output (`NodeOut`) with the shape or slot resolved to a constant
+//! index. Every other token keeps its span, so type errors point into the
+//! user's body.
 
 use proc_macro2::{Group, Ident, Span, TokenStream, TokenTree};
-use quote::quote_spanned;
+use quote::{quote, quote_spanned};
 use syn::parse::{ParseStream, Parser};
 use syn::spanned::Spanned;
 use syn::{Expr, Path, Token};
 
+use crate::ast::Slot;
 use crate::ctxt::Ctxt;
+use crate::eval;
 
-/// What the rewriting needs to know about one node.
-pub struct Scope<'a> {
-    pub krate: &'a Path,
-    pub node: &'a Ident,
-    pub shapes: &'a [Ident],
-    pub slots: &'a [crate::ast::Slot],
-    /// The output variable (hygienic).
-    pub out: &'a Ident,
+/// Which pseudo-macro a call is.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum CallKind {
+    Emit,
+    Child,
+    Expressed,
 }
 
-/// Whether a body calls `emit!` anywhere.
-pub fn emits(body: &TokenStream) -> bool {
-    let mut prev_emit = false;
-    for tt in body.clone() {
-        match &tt {
-            TokenTree::Ident(i) => prev_emit = i == "emit",
-            TokenTree::Punct(p) if p.as_char() == '!' && prev_emit => return true,
-            TokenTree::Group(g) if emits(&g.stream()) => return true,
-            _ => prev_emit = false,
+impl CallKind {
+    fn from_ident(i: &Ident) -> Option<Self> {
+        Some(match i.to_string().as_str() {
+            "emit" => Self::Emit,
+            "child" => Self::Child,
+            "expressed" => Self::Expressed,
+            _ => return None,
+        })
+    }
+
+    fn usage(self) -> &'static str {
+        match self {
+            Self::Emit => "emit!(shape, transform)",
+            Self::Child => "child!(slot, state)",
+            Self::Expressed => "expressed!(slot)",
         }
     }
-    false
 }
 
-/// The body with `emit!`/`child!` replaced.
-pub fn rewrite(cx: &Ctxt, scope: &Scope<'_>, body: TokenStream) -> TokenStream {
-    let tokens: Vec<TokenTree> = body.into_iter().collect();
-    let mut out = Vec::with_capacity(tokens.len());
-    let mut i = 0;
-    while i < tokens.len() {
-        if let (TokenTree::Ident(name), Some(TokenTree::Punct(bang)), Some(TokenTree::Group(args))) =
-            (&tokens[i], tokens.get(i + 1), tokens.get(i + 2))
-            && bang.as_char() == '!'
-            && (name == "emit" || name == "child" || name == "expressed")
-        {
-            out.extend(call(cx, scope, name, args));
-            i += 3;
-            continue;
-        }
-        match &tokens[i] {
-            TokenTree::Group(g) => {
-                let mut ng = Group::new(g.delimiter(), rewrite(cx, scope, g.stream()));
-                ng.set_span(g.span());
-                out.push(TokenTree::Group(ng));
-            }
-            t => out.push(t.clone()),
-        }
-        i += 1;
+/// One pseudo-macro call as written.
+pub struct Call {
+    pub kind: CallKind,
+    /// The shape or slot named.
+    pub id: Ident,
+    /// `[index]` after a slot array's name.
+    pub index: Option<Expr>,
+    /// The transform (`emit!`) or state (`child!`).
+    pub value: Option<Expr>,
+    /// The parenthesized arguments' span.
+    pub span: Span,
+}
+
+impl Call {
+    /// The constant array index, if the index is a number literal.
+    pub fn literal_index(&self) -> Option<usize> {
+        self.index.as_ref().and_then(eval::integer)
     }
-    out.into_iter().collect()
 }
 
-/// `emit!(shape, transform)`, `child!(slot, state)` or `expressed!(slot)`;
-/// a slot is `name` or `name[index]` for a slot array.
-fn call(cx: &Ctxt, scope: &Scope<'_>, name: &Ident, args: &Group) -> TokenStream {
-    let what = match name.to_string().as_str() {
-        "emit" => "emit!(shape, transform)",
-        "child" => "child!(slot, state)",
-        _ => "expressed!(slot)",
-    };
-    let has_value = name != "expressed";
-    let parsed = (|input: ParseStream| {
+/// Whether `tokens` at `i` start a pseudo-macro call: `name ! (args)`.
+fn call_at(tokens: &[TokenTree], i: usize) -> Option<(CallKind, &Group)> {
+    if let (TokenTree::Ident(name), Some(TokenTree::Punct(bang)), Some(TokenTree::Group(args))) =
+        (&tokens[i], tokens.get(i + 1), tokens.get(i + 2))
+        && bang.as_char() == '!'
+    {
+        return CallKind::from_ident(name).map(|k| (k, args));
+    }
+    None
+}
+
+/// Parses one call's arguments.
+pub fn parse_call(kind: CallKind, args: &Group) -> syn::Result<Call> {
+    let has_value = kind != CallKind::Expressed;
+    (|input: ParseStream| {
         let id: Ident = input.parse()?;
         let index = if input.peek(syn::token::Bracket) {
             let inner;
@@ -90,75 +94,213 @@ fn call(cx: &Ctxt, scope: &Scope<'_>, name: &Ident, args: &Group) -> TokenStream
             None
         };
         input.parse::<Option<Token![,]>>()?;
-        Ok((id, index, value))
+        Ok(Call {
+            kind,
+            id,
+            index,
+            value,
+            span: args.span(),
+        })
     })
-    .parse2(args.stream());
-    let (id, index, value) = match parsed {
-        Ok(x) => x,
-        Err(e) => {
-            cx.error(e.span(), format!("expected `{what}`: {e}"));
-            return TokenStream::new();
-        }
-    };
-    let krate = scope.krate;
-    let out = scope.out;
-    let span = args.span();
-    let label = id.to_string();
-    if name == "emit" {
-        let Some(k) = scope.shapes.iter().position(|s| *s == id) else {
-            cx.error(
-                id.span(),
-                format!("unknown shape `{id}`: declare it in `shapes: [...]`"),
-            );
-            return TokenStream::new();
-        };
-        if let Some(i) = &index {
-            cx.error(i.span(), "shapes are not indexed");
-        }
-        let k = k as u16;
-        return quote_spanned!(span=> #krate::express::NodeOut::emit_shape(#out, #k, #label, #value));
-    }
-    let Some(j) = scope.slots.iter().position(|s| s.name == id) else {
-        cx.error(
-            id.span(),
-            format!("node `{}` has no slot `{id}`", scope.node),
+    .parse2(args.stream())
+    .map_err(|e| syn::Error::new(e.span(), format!("expected `{}`: {e}", kind.usage())))
+}
+
+/// Every pseudo-macro call in `body`, in token order; a malformed one is
+/// reported in `cx` and left out.
+pub fn calls(cx: &Ctxt, body: &TokenStream) -> Vec<Call> {
+    let mut found = Vec::new();
+    collect(&mut |e| cx.syn_error(e), body, &mut found);
+    found
+}
+
+/// For a body that passed the checks: a compile-time assertion for each
+/// constant index into a slot array whose length is a constant expression
+/// (module-level, so `cargo check` evaluates it too).
+pub fn index_assertions(slots: &[Slot], body: &TokenStream) -> TokenStream {
+    let mut found = Vec::new();
+    collect(&mut |_| {}, body, &mut found);
+    let asserts = found.iter().filter_map(|c| {
+        let k = c.literal_index()?;
+        let slot = slots.iter().find(|s| s.name == c.id)?;
+        let len = slot
+            .count
+            .as_ref()
+            .filter(|_| slot.literal_len().is_none())?;
+        let msg = format!(
+            "slot index {k} is out of range for the slot array `{}`",
+            c.id
         );
-        return TokenStream::new();
-    };
-    let base: usize = scope.slots[..j].iter().map(|s| s.len()).sum();
+        let span = c.index.as_ref().map_or(c.span, Spanned::span);
+        Some(quote_spanned!(span=> const _: () = ::core::assert!(#k < (#len) as usize, #msg);))
+    });
+    quote!(#(#asserts)*)
+}
+
+fn collect(report: &mut dyn FnMut(syn::Error), body: &TokenStream, found: &mut Vec<Call>) {
+    let tokens: Vec<TokenTree> = body.clone().into_iter().collect();
+    let mut i = 0;
+    while i < tokens.len() {
+        if let Some((kind, args)) = call_at(&tokens, i) {
+            match parse_call(kind, args) {
+                Ok(c) => {
+                    // Arguments may hold calls too (`child!(a, f(expressed!(b)))`).
+                    if let Some(v) = &c.value {
+                        collect(report, &quote!(#v), found);
+                    }
+                    found.push(c);
+                }
+                Err(e) => report(e),
+            }
+            i += 3;
+            continue;
+        }
+        if let TokenTree::Group(g) = &tokens[i] {
+            collect(report, &g.stream(), found);
+        }
+        i += 1;
+    }
+}
+
+/// What the rewriting needs to know about one node declaration.
+pub struct Scope<'a> {
+    pub krate: &'a Path,
+    pub shapes: &'a [Ident],
+    pub slots: &'a [Slot],
+    /// The state type (children's values are bound to it, so a mismatch is
+    /// reported at the user's expression).
+    pub state_ty: &'a TokenStream,
+    /// The output variable (hygienic).
+    pub out: &'a Ident,
+}
+
+/// The body with `emit!`/`child!`/`expressed!` replaced. A call that does
+/// not resolve (only after errors, in the [`fallback`](crate::fallback))
+/// becomes `unreachable!()`, which has every type, so the rest of the body
+/// is still type-checked without follow-on errors.
+pub fn rewrite(scope: &Scope<'_>, body: TokenStream) -> TokenStream {
+    let tokens: Vec<TokenTree> = body.into_iter().collect();
+    let mut out = Vec::with_capacity(tokens.len());
+    let mut i = 0;
+    while i < tokens.len() {
+        if let Some((kind, args)) = call_at(&tokens, i) {
+            let call = parse_call(kind, args)
+                .ok()
+                .and_then(|c| expand_call(scope, c));
+            out.extend(call.unwrap_or_else(|| quote!(::core::unreachable!())));
+            i += 3;
+            continue;
+        }
+        match &tokens[i] {
+            TokenTree::Group(g) => {
+                let mut ng = Group::new(g.delimiter(), rewrite(scope, g.stream()));
+                ng.set_span(g.span());
+                out.push(TokenTree::Group(ng));
+            }
+            t => out.push(t.clone()),
+        }
+        i += 1;
+    }
+    out.into_iter().collect()
+}
+
+fn expand_call(scope: &Scope<'_>, c: Call) -> Option<TokenStream> {
+    let (krate, out, span) = (scope.krate, scope.out, c.span);
+    let label = c.id.to_string();
+    // Values are rewritten too: they may hold `expressed!`.
+    let value = c.value.as_ref().map(|v| rewrite(scope, quote!(#v)));
+    if c.kind == CallKind::Emit {
+        let k = scope.shapes.iter().position(|s| *s == c.id)?;
+        let k = k as u16;
+        let transform = hidden("__sg_transform");
+        let v = value.unwrap_or_default();
+        let ty = respan(quote!(#krate::glam::Affine3A), v.span());
+        return Some(quote_spanned!(span=> {
+            let #transform: #ty = #v;
+            #krate::express::NodeOut::emit_shape(#out, #k, #label, #transform)
+        }));
+    }
+    let j = scope.slots.iter().position(|s| s.name == c.id)?;
+    let base = slots_len(&scope.slots[..j]);
     let slot = &scope.slots[j];
-    let slot_ref = match (&slot.count, &index) {
+    let slot_ref = match (&slot.count, &c.index) {
         (None, None) => {
             quote_spanned!(span=> #krate::express::SlotRef { index: #base, name: #label, element: 0 })
         }
-        (Some(_), Some(i)) => {
-            let n = slot.len();
-            let k = hidden("__sg_k");
-            let msg = format!("slot index {{}} is out of range for `{label}[{n}]`");
+        (Some(len), Some(i)) => {
+            let len = quote!(#len);
+            match (c.literal_index(), slot.literal_len()) {
+                // A constant index into an array of literal length: checked by the macro.
+                (Some(k), Some(_)) => quote_spanned!(span=>
+                    #krate::express::SlotRef { index: #base + #k, name: #label, element: #k }),
+                // A constant index into an array of constant length: checked by
+                // the compiler (`index_assertions`).
+                (Some(k), None) => quote_spanned!(span=>
+                    #krate::express::SlotRef { index: #base + #k, name: #label, element: #k }),
+                // A computed index: checked at run time.
+                (None, _) => {
+                    let k = hidden("__sg_k");
+                    let msg = format!("slot index {{}} is out of range for `{label}[{{}}]`");
+                    quote_spanned!(span=> {
+                        let #k: usize = #i;
+                        ::core::assert!(#k < (#len), #msg, #k, #len);
+                        #krate::express::SlotRef { index: #base + #k, name: #label, element: #k }
+                    })
+                }
+            }
+        }
+        _ => return None,
+    };
+    Some(match value {
+        Some(v) => {
+            let state = hidden("__sg_child");
+            let ty = respan(scope.state_ty.clone(), v.span());
             quote_spanned!(span=> {
-                let #k: usize = #i;
-                ::core::assert!(#k < #n, #msg, #k);
-                #krate::express::SlotRef { index: #base + #k, name: #label, element: #k }
+                let #state: #ty = #v;
+                #krate::express::NodeOut::express_child(#out, #slot_ref, #state)
             })
         }
-        (None, Some(i)) => {
-            cx.error(i.span(), format!("slot `{id}` is not an array"));
-            return TokenStream::new();
-        }
-        (Some(_), None) => {
-            cx.error(
-                id.span(),
-                format!("slot `{id}` is an array: write `{id}[index]`"),
-            );
-            return TokenStream::new();
-        }
-    };
-    match value {
-        Some(v) => {
-            quote_spanned!(span=> #krate::express::NodeOut::express_child(#out, #slot_ref, #v))
-        }
         None => quote_spanned!(span=> #krate::express::NodeOut::is_expressed(#out, #slot_ref)),
-    }
+    })
+}
+
+/// The number of graph slots `slots` stand for, as a constant expression
+/// (a literal when every length is one).
+pub fn slots_len(slots: &[Slot]) -> TokenStream {
+    slots_len_plus(slots, 0)
+}
+
+/// [`slots_len`] plus `extra`, folded into one literal where possible.
+pub fn slots_len_plus(slots: &[Slot], extra: usize) -> TokenStream {
+    let known: usize = extra + slots.iter().filter_map(Slot::literal_len).sum::<usize>();
+    let exprs = slots
+        .iter()
+        .filter(|s| s.literal_len().is_none())
+        .filter_map(|s| s.count.as_ref());
+    quote!(#known #(+ (#exprs) as usize)*)
+}
+
+/// Whether a body calls `emit!` anywhere.
+pub fn emits(calls: &[Call]) -> bool {
+    calls.iter().any(|c| c.kind == CallKind::Emit)
+}
+
+/// `tokens` with every span set to `span`: a type written for the user's
+/// value, so that a mismatch is reported at the value alone.
+fn respan(tokens: TokenStream, span: Span) -> TokenStream {
+    tokens
+        .into_iter()
+        .map(|mut t| {
+            if let TokenTree::Group(g) = &t {
+                let mut ng = Group::new(g.delimiter(), respan(g.stream(), span));
+                ng.set_span(span);
+                t = TokenTree::Group(ng);
+            } else {
+                t.set_span(span);
+            }
+            t
+        })
+        .collect()
 }
 
 /// A hygienic identifier for generated code.

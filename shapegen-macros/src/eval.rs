@@ -29,6 +29,13 @@ pub fn number(e: &Expr) -> Option<f64> {
     }
 }
 
+/// The value of `e` if it is a whole, non-negative number built from literals
+/// (`100`, `10 * 10`); `None` otherwise.
+pub fn integer(e: &Expr) -> Option<usize> {
+    let x = number(e)?;
+    (x >= 0.0 && x.fract() == 0.0 && x <= usize::MAX as f64).then_some(x as usize)
+}
+
 /// The components of a vector argument: `[a, b, c]`, `[x; n]` or a scalar
 /// broadcast to `n` components. `None` if it is none of these.
 pub fn components(e: &Expr, n: usize) -> Option<Vec<Expr>> {

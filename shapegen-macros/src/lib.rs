@@ -1,9 +1,13 @@
 //! The `generator!` procedural macro of [shapegen](https://crates.io/crates/shapegen).
 //!
-//! This crate is a thin shim: the macro parses its input into its own model
-//! (modules `ast`, `parse`), checks it (`check`, every problem reported at
-//! once through `ctxt`), and generates code (`expand`, `body`). Use it
-//! through `shapegen::generator!`, whose documentation describes the syntax.
+//! This crate is a thin shim over a pipeline, one module per stage: `parse`
+//! reads the input into the macro's own model (`ast`), `check` runs one
+//! named rule per concern (`body` and `paths` look into node bodies; every
+//! problem is collected in `ctxt` and reported at once), and only a clean
+//! declaration reaches `expand`; after errors, `fallback` still emits the
+//! type and its `Generator` impl so that only the real mistakes show. Use
+//! the macro through `shapegen::generator!`, whose documentation describes
+//! the syntax.
 
 #![forbid(unsafe_code)]
 
@@ -13,7 +17,10 @@ mod check;
 mod ctxt;
 mod eval;
 mod expand;
+mod fallback;
+mod hint;
 mod parse;
+mod paths;
 
 /// Declares a procedural generator: its graph, the state passed along its
 /// edges, and the Rust code of each node's operation.

@@ -2,7 +2,7 @@
 //!
 //! Parsing checks only the shape of the input; the meaning (names, ranges,
 //! probabilities) is checked by [`check`](crate::check), which reports every
-//! problem at once.
+//! problem at once. A misspelled keyword gets a "did you mean" hint.
 
 use proc_macro2::{Delimiter, TokenStream, TokenTree};
 use syn::parse::{Parse, ParseStream};
@@ -11,7 +11,8 @@ use syn::{
     Attribute, Expr, Ident, Pat, Path, Token, Type, Visibility, braced, bracketed, parenthesized,
 };
 
-use crate::ast::{Generator, Kind, Limits, Node, Param, Slot};
+use crate::ast::{Const, DistCall, Generator, Kind, Limits, Node, Param, PerMember, Slot};
+use crate::hint::{did_you_mean, message};
 
 mod kw {
     syn::custom_keyword!(shapes);
@@ -22,10 +23,20 @@ mod kw {
     syn::custom_keyword!(emits);
     syn::custom_keyword!(params);
     syn::custom_keyword!(slots);
+    syn::custom_keyword!(consts);
+    syn::custom_keyword!(each);
+    syn::custom_keyword!(choice);
     syn::custom_keyword!(max_depth);
     syn::custom_keyword!(min_len);
     syn::custom_keyword!(max_len);
 }
+
+/// The items a declaration may hold after `struct Name;`.
+const ITEMS: [&str; 6] = ["shapes", "start", "limits", "state", "crate", "node"];
+/// The sections of a node, before its body.
+const SECTIONS: [&str; 3] = ["params", "slots", "consts"];
+/// The keys of `limits: { ... }`.
+const LIMIT_KEYS: [&str; 3] = ["max_depth", "min_len", "max_len"];
 
 impl Parse for Generator {
     fn parse(input: ParseStream) -> syn::Result<Self> {
@@ -84,6 +95,17 @@ impl Parse for Generator {
                 let ty: Type = input.parse()?;
                 input.parse::<Token![=]>()?;
                 g.state = Some((ty, input.parse()?));
+            } else if let Some(word) = peek_word(input) {
+                return Err(syn::Error::new(
+                    word.span(),
+                    message(
+                        &format!("unknown item `{word}`"),
+                        &word.to_string(),
+                        ITEMS,
+                        "a generator holds `shapes: [..];`, `start: Node;`, `limits: {..};`, \
+                         `state: Type = axiom;`, `crate: path;` and `node`s",
+                    ),
+                ));
             } else {
                 return Err(look.error());
             }
@@ -91,6 +113,11 @@ impl Parse for Generator {
         }
         Ok(g)
     }
+}
+
+/// The next token if it is an identifier (keywords included), without consuming it.
+fn peek_word(input: ParseStream) -> Option<Ident> {
+    input.fork().call(syn::ext::IdentExt::parse_any).ok()
 }
 
 fn parse_limits(input: ParseStream) -> syn::Result<Limits> {
@@ -108,6 +135,16 @@ fn parse_limits(input: ParseStream) -> syn::Result<Limits> {
         } else if look.peek(kw::max_len) {
             content.parse::<kw::max_len>()?;
             &mut limits.max_len
+        } else if let Some(word) = peek_word(&content) {
+            return Err(syn::Error::new(
+                word.span(),
+                message(
+                    &format!("unknown limit `{word}`"),
+                    &word.to_string(),
+                    LIMIT_KEYS,
+                    "the limits are `max_depth`, `min_len` and `max_len`",
+                ),
+            ));
         } else {
             return Err(look.error());
         };
@@ -120,18 +157,30 @@ fn parse_limits(input: ParseStream) -> syn::Result<Limits> {
     Ok(limits)
 }
 
-/// Parses a node; its doc comments (`attrs`) document the declaration only.
+/// Parses `node A [, B ...] [emits] { sections |state| { body } }`; its doc
+/// comments (`attrs`) document the declaration only.
 fn parse_node(input: ParseStream, _attrs: Vec<Attribute>) -> syn::Result<Node> {
     input.parse::<kw::node>()?;
-    let name: Ident = input.parse()?;
+    let mut members = vec![input.parse::<Ident>()?];
+    while input.peek(Token![,]) {
+        input.parse::<Token![,]>()?;
+        members.push(input.parse()?);
+    }
     let emits = input.peek(kw::emits);
     if emits {
         input.parse::<kw::emits>()?;
+    } else if let Some(word) = peek_word(input) {
+        return Err(syn::Error::new(
+            word.span(),
+            format!(
+                "expected `emits` or the node's braces, found `{word}`{}",
+                did_you_mean(&word.to_string(), ["emits"])
+            ),
+        ));
     }
     let content;
     braced!(content in input);
-    let mut params = Vec::new();
-    let mut slots = Vec::new();
+    let (mut consts, mut params, mut slots) = (Vec::new(), Vec::new(), Vec::new());
     loop {
         let look = content.lookahead1();
         if look.peek(kw::params) {
@@ -144,8 +193,24 @@ fn parse_node(input: ParseStream, _attrs: Vec<Attribute>) -> syn::Result<Node> {
             let inner;
             braced!(inner in content);
             slots.extend(Punctuated::<Slot, Token![,]>::parse_terminated(&inner)?);
+        } else if look.peek(kw::consts) {
+            content.parse::<kw::consts>()?;
+            let inner;
+            braced!(inner in content);
+            consts.extend(Punctuated::<Const, Token![,]>::parse_terminated(&inner)?);
         } else if look.peek(Token![|]) {
             break;
+        } else if let Some(word) = peek_word(&content) {
+            return Err(syn::Error::new(
+                word.span(),
+                message(
+                    &format!("unknown section `{word}`"),
+                    &word.to_string(),
+                    SECTIONS,
+                    "a node holds `params {..}`, `slots {..}` and `consts {..}`, then its body \
+                     `|state| { .. }`",
+                ),
+            ));
         } else {
             return Err(look.error());
         }
@@ -153,7 +218,7 @@ fn parse_node(input: ParseStream, _attrs: Vec<Attribute>) -> syn::Result<Node> {
     content.parse::<Token![|]>()?;
     let binder = Pat::parse_single(&content)?;
     content.parse::<Token![|]>()?;
-    let body: TokenTree = content.parse()?;
+    let body = unwrap_invisible(content.parse::<TokenTree>()?);
     if !matches!(&body, TokenTree::Group(g) if g.delimiter() == Delimiter::Brace) {
         return Err(syn::Error::new(
             body.span(),
@@ -164,8 +229,9 @@ fn parse_node(input: ParseStream, _attrs: Vec<Attribute>) -> syn::Result<Node> {
         return Err(content.error("unexpected tokens after the node's body"));
     }
     Ok(Node {
-        name,
+        members,
         emits,
+        consts,
         params,
         slots,
         binder,
@@ -173,19 +239,97 @@ fn parse_node(input: ParseStream, _attrs: Vec<Attribute>) -> syn::Result<Node> {
     })
 }
 
+/// A `macro_rules!` fragment (`$body:block`) arrives wrapped in an invisible
+/// group; the body is what it holds.
+fn unwrap_invisible(mut tt: TokenTree) -> TokenTree {
+    while let TokenTree::Group(g) = &tt
+        && g.delimiter() == Delimiter::None
+    {
+        let mut inner = g.stream().into_iter();
+        match (inner.next(), inner.next()) {
+            (Some(only), None) => tt = only,
+            _ => break,
+        }
+    }
+    tt
+}
+
+/// `each[v0, v1, ...]` (one value per family member) or a single value.
+fn per_member<T>(
+    input: ParseStream,
+    parse: fn(ParseStream) -> syn::Result<T>,
+) -> syn::Result<PerMember<T>> {
+    if input.peek(kw::each) && input.peek2(syn::token::Bracket) {
+        input.parse::<kw::each>()?;
+        let inner;
+        let span = bracketed!(inner in input).span.join();
+        let mut values = Vec::new();
+        while !inner.is_empty() {
+            values.push(parse(&inner)?);
+            if !inner.is_empty() {
+                inner.parse::<Token![,]>()?;
+            }
+        }
+        if values.is_empty() {
+            return Err(syn::Error::new(
+                span,
+                "`each[..]` needs one value per member",
+            ));
+        }
+        return Ok(PerMember::Each { span, values });
+    }
+    Ok(PerMember::Shared(parse(input)?))
+}
+
 impl Parse for Param {
-    /// `name: kind = dist(args)`
+    /// `name: kind = dist(args)`, `name: kind = each[dist(args), ...]` or the
+    /// short form `name: choice([weights])`.
     fn parse(input: ParseStream) -> syn::Result<Self> {
         let name: Ident = input.parse()?;
         input.parse::<Token![:]>()?;
+        if input.peek(kw::choice) && input.peek2(syn::token::Paren) {
+            return Ok(Param {
+                name,
+                kind: Kind::Choice,
+                dist: PerMember::Shared(input.parse()?),
+            });
+        }
         let kind_ident: Ident = input.call(syn::ext::IdentExt::parse_any)?;
-        let kind = Kind::from_ident(&kind_ident).ok_or_else(|| {
-            syn::Error::new(
-                kind_ident.span(),
-                format!("unknown parameter type `{kind_ident}`: expected `f32`, `vec2`, `vec3`, `int` or `choice`"),
-            )
-        })?;
+        let Some(kind) = Kind::from_ident(&kind_ident) else {
+            let word = kind_ident.to_string();
+            let text = if input.peek(syn::token::Paren) {
+                format!(
+                    "expected the parameter's type before its distribution: \
+                     `{name}: f32 = {word}(..)` (only `choice([..])` has a short form)"
+                )
+            } else {
+                let candidates: &[&str] = match word.as_str() {
+                    "f64" | "float" | "Float" => &["f32"],
+                    "i32" | "u32" | "i64" | "u64" | "usize" | "integer" => &["int"],
+                    _ => &Kind::NAMES,
+                };
+                let head = format!("unknown parameter type `{word}`");
+                let tail = "the types are `f32`, `vec2`, `vec3`, `int` and `choice`";
+                if candidates.len() == 1 {
+                    format!(
+                        "{head}: did you mean `{}`? The types are `f32`, `vec2`, `vec3`, `int` and `choice`",
+                        candidates[0]
+                    )
+                } else {
+                    message(&head, &word, candidates.iter().copied(), tail)
+                }
+            };
+            return Err(syn::Error::new(kind_ident.span(), text));
+        };
         input.parse::<Token![=]>()?;
+        let dist = per_member(input, DistCall::parse)?;
+        Ok(Param { name, kind, dist })
+    }
+}
+
+impl Parse for DistCall {
+    /// `dist(args)`
+    fn parse(input: ParseStream) -> syn::Result<Self> {
         let fork = input.fork();
         let dist: Ident = input.parse()?;
         let args;
@@ -203,18 +347,13 @@ impl Parse for Param {
             }
             cursor = next;
         }
-        Ok(Param {
-            name,
-            kind,
-            dist,
-            args,
-            call,
-        })
+        Ok(DistCall { dist, args, call })
     }
 }
 
 impl Parse for Slot {
-    /// `name: Target = probability` or `name[N]: Target = probability`
+    /// `name: Target = probability` or `name[N]: Target = probability`; the
+    /// probability may be `each[..]`.
     fn parse(input: ParseStream) -> syn::Result<Self> {
         let name: Ident = input.parse()?;
         let count = if input.peek(syn::token::Bracket) {
@@ -227,12 +366,24 @@ impl Parse for Slot {
         input.parse::<Token![:]>()?;
         let target: Ident = input.parse()?;
         input.parse::<Token![=]>()?;
-        let p: Expr = input.parse()?;
+        let p = per_member(input, Expr::parse)?;
         Ok(Slot {
             name,
             count,
             target,
             p,
         })
+    }
+}
+
+impl Parse for Const {
+    /// `name: Type = value` or `name: Type = each[..]`
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        let name: Ident = input.parse()?;
+        input.parse::<Token![:]>()?;
+        let ty: Type = input.parse()?;
+        input.parse::<Token![=]>()?;
+        let value = per_member(input, Expr::parse)?;
+        Ok(Const { name, ty, value })
     }
 }
