@@ -20,7 +20,7 @@ pub(crate) fn building(lot: Scope, footprint: Vec2, height: f32, rotation: f32) 
 }
 
 /// One lot further along the local x axis.
-fn step(mut s: Scope) -> Scope {
+pub(crate) fn step(mut s: Scope) -> Scope {
     s.move_x(LOT_STEP);
     s
 }
@@ -51,7 +51,7 @@ const QUARTER_TURNS: [Affine3A; 4] = [
 
 /// The lot reached by turning `quarters` quarter turns about y (counter-clockwise
 /// seen from above for positive values) and stepping once.
-fn turn_and_step(mut s: Scope, quarters: i32) -> Scope {
+pub(crate) fn turn_and_step(mut s: Scope, quarters: i32) -> Scope {
     s.frame *= QUARTER_TURNS[quarters.rem_euclid(4) as usize];
     step(s)
 }
@@ -76,24 +76,11 @@ generator! {
         }
     }
 
-    node N {
+    /// The four arms leave the centre a quarter turn apart.
+    node N, E, S, W {
+        consts { quarter_turns: i32 = each[1, 0, -1, 2] }
         slots { lot: LotDual = 0.9 }
-        |scope| { child!(lot, turn_and_step(scope, 1)); }
-    }
-
-    node E {
-        slots { lot: LotDual = 0.9 }
-        |scope| { child!(lot, turn_and_step(scope, 0)); }
-    }
-
-    node S {
-        slots { lot: LotDual = 0.9 }
-        |scope| { child!(lot, turn_and_step(scope, -1)); }
-    }
-
-    node W {
-        slots { lot: LotDual = 0.9 }
-        |scope| { child!(lot, turn_and_step(scope, 2)); }
+        |scope| { child!(lot, turn_and_step(scope, quarter_turns)); }
     }
 
     node LotDual {
@@ -145,9 +132,9 @@ generator! {
     start: Start;
 
     node Start {
-        slots { lots[100]: Building = 0.33 }
+        slots { lots[GRID * GRID]: Building = 0.33 }
         |scope| {
-            for k in 0..100 {
+            for k in 0..GRID * GRID {
                 child!(lots[k], scope.translated(grid_lot(k)));
             }
         }

@@ -16,6 +16,8 @@
 mod city;
 mod spaceship;
 mod tree;
+#[cfg(test)]
+mod unrolled;
 
 pub use city::{GRID, GridCity, LOT_STEP, SpaceFillingCity, grid_lot};
 pub use spaceship::{ShipState, Spaceship};

@@ -23,7 +23,7 @@ impl ShipState {
 }
 
 /// The rotation by π about the body's local z axis, in world space.
-fn mirror_about_z(body: &Scope) -> Affine3A {
+pub(crate) fn mirror_about_z(body: &Scope) -> Affine3A {
     body.frame * Affine3A::from_rotation_z(std::f32::consts::PI) * body.frame.inverse()
 }
 
@@ -62,9 +62,9 @@ generator! {
         }
     }
 
-    /// The first tower segment on a body.
-    node T emits {
-        params { k: vec3 = uniform([0.3, 0.1, 0.3], [0.8, 0.2, 0.8]) }
+    /// A tower segment: `T` on a body, `t` on a tower segment; they differ in their scale range.
+    node T, t emits {
+        params { k: vec3 = each[uniform([0.3, 0.1, 0.3], [0.8, 0.2, 0.8]), uniform([0.6, 0.8, 0.6], [1.1, 1.1, 1.1])] }
         slots { up: t = 1.0 }
         |state| {
             let mut s = state.scope;
@@ -75,41 +75,14 @@ generator! {
         }
     }
 
-    /// A further tower segment.
-    node t emits {
-        params { k: vec3 = uniform([0.6, 0.8, 0.6], [1.1, 1.1, 1.1]) }
-        slots { up: t = 1.0 }
-        |state| {
-            let mut s = state.scope;
-            s.resize(k);
-            s.move_y(0.5 * s.size.y);
-            emit!(cube, s.instance());
-            child!(up, ShipState { scope: s.translated(Vec3::new(0.0, 0.5 * s.size.y, 0.0)), ..state });
-        }
-    }
-
-    /// The first wing segment, emitted on both sides of its body.
-    node W emits {
+    /// A wing segment, emitted on both sides of its body: `W` on a body (always
+    /// followed by a `w`), `w` further out (continued with p = 0.9).
+    node W, w emits {
         params {
-            k: vec3 = uniform([0.3, 0.2, 0.2], [1.2, 0.5, 1.0]),
+            k: vec3 = each[uniform([0.3, 0.2, 0.2], [1.2, 0.5, 1.0]), uniform([0.6, 0.9, 0.7], [1.2, 1.0, 1.2])],
             m: f32 = uniform(-0.5, 0.5),
         }
-        slots { out: w = 1.0 }
-        |state| {
-            let s = wing_segment(state.scope, k, m);
-            emit!(cube, s.instance());
-            emit!(cube, state.mirror * s.instance());
-            child!(out, ShipState { scope: s.translated(Vec3::new(0.5 * s.size.x, 0.0, 0.0)), ..state });
-        }
-    }
-
-    /// A further wing segment, emitted on both sides.
-    node w emits {
-        params {
-            k: vec3 = uniform([0.6, 0.9, 0.7], [1.2, 1.0, 1.2]),
-            m: f32 = uniform(-0.5, 0.5),
-        }
-        slots { out: w = 0.9 }
+        slots { out: w = each[1.0, 0.9] }
         |state| {
             let s = wing_segment(state.scope, k, m);
             emit!(cube, s.instance());
@@ -121,7 +94,7 @@ generator! {
 
 /// A wing segment from the attachment point: resize, slide along z by
 /// `m · s_z`, and move out by half its width.
-fn wing_segment(mut s: Scope, k: Vec3, m: f32) -> Scope {
+pub(crate) fn wing_segment(mut s: Scope, k: Vec3, m: f32) -> Scope {
     s.resize(k);
     s.move_z(s.size.z * m);
     s.move_x(0.5 * s.size.x);

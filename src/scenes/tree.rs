@@ -36,7 +36,7 @@ pub(crate) fn leaf(branch: &Scope) -> Affine3A {
 }
 
 /// The trunk: a frustum of width 0.8 and height `h`, centred at `at`.
-fn trunk(at: Vec3, h: f32) -> Scope {
+pub(crate) fn trunk(at: Vec3, h: f32) -> Scope {
     let mut s = Scope::UNIT;
     s.translate(at);
     s.set_size(Vec3::new(TRUNK_WIDTH, h, TRUNK_WIDTH));
@@ -46,8 +46,8 @@ fn trunk(at: Vec3, h: f32) -> Scope {
 generator! {
     /// The paper's tree v2 (Fig. 8a, tree-sketch scene): a trunk at the
     /// origin and branches `b`, `n`, `m` fanned out by azimuth (0–120°,
-    /// 120–240°, 240–360°), each attached 88 % up its parent; every branch
-    /// without a child branch carries a leaf.
+    /// 120–240°, 240–360°), each attached 38 % of its parent's height above
+    /// the parent's centre; every branch without a child branch carries a leaf.
     pub struct TreeV2;
     shapes: [frustum, leaf];
     start: S;
@@ -69,56 +69,18 @@ generator! {
         }
     }
 
-    node b emits {
+    /// The three branch types differ only in their azimuth range.
+    node b, n, m emits {
+        consts { attach: f32 = 0.38 }
         params {
-            azimuth: f32 = uniform(0, 120),
+            azimuth: f32 = each[uniform(0, 120), uniform(120, 240), uniform(240, 360)],
             inclination: f32 = uniform(35, 85),
             twist: f32 = uniform(-3, 3),
             k: vec3 = uniform([0.6, 0.6, 0.6], [0.7, 0.801, 0.7]),
         }
         slots { b: b = 1.0 / 3.0, n: n = 1.0 / 3.0, m: m = 1.0 / 3.0 }
         |scope| {
-            let s = branch(scope, azimuth, 0.38, inclination, k, twist);
-            emit!(frustum, s.instance());
-            if !(expressed!(b) || expressed!(n) || expressed!(m)) {
-                emit!(leaf, leaf(&s));
-            }
-            child!(b, s);
-            child!(n, s);
-            child!(m, s);
-        }
-    }
-
-    node n emits {
-        params {
-            azimuth: f32 = uniform(120, 240),
-            inclination: f32 = uniform(35, 85),
-            twist: f32 = uniform(-3, 3),
-            k: vec3 = uniform([0.6, 0.6, 0.6], [0.7, 0.801, 0.7]),
-        }
-        slots { b: b = 1.0 / 3.0, n: n = 1.0 / 3.0, m: m = 1.0 / 3.0 }
-        |scope| {
-            let s = branch(scope, azimuth, 0.38, inclination, k, twist);
-            emit!(frustum, s.instance());
-            if !(expressed!(b) || expressed!(n) || expressed!(m)) {
-                emit!(leaf, leaf(&s));
-            }
-            child!(b, s);
-            child!(n, s);
-            child!(m, s);
-        }
-    }
-
-    node m emits {
-        params {
-            azimuth: f32 = uniform(240, 360),
-            inclination: f32 = uniform(35, 85),
-            twist: f32 = uniform(-3, 3),
-            k: vec3 = uniform([0.6, 0.6, 0.6], [0.7, 0.801, 0.7]),
-        }
-        slots { b: b = 1.0 / 3.0, n: n = 1.0 / 3.0, m: m = 1.0 / 3.0 }
-        |scope| {
-            let s = branch(scope, azimuth, 0.38, inclination, k, twist);
+            let s = branch(scope, azimuth, attach, inclination, k, twist);
             emit!(frustum, s.instance());
             if !(expressed!(b) || expressed!(n) || expressed!(m)) {
                 emit!(leaf, leaf(&s));
@@ -159,56 +121,18 @@ generator! {
         }
     }
 
-    node b emits {
+    /// `b` and `n` fan out to either side; `m` continues its parent, twisted.
+    node b, n, m emits {
+        consts { attach: f32 = 0.5 }
         params {
-            azimuth: f32 = uniform(0, 180),
-            inclination: f32 = uniform(35, 55),
-            twist: f32 = uniform(-3, 3),
+            azimuth: f32 = each[uniform(0, 180), uniform(180, 360), uniform(0, 0)],
+            inclination: f32 = each[uniform(35, 55), uniform(35, 55), uniform(0, 2)],
+            twist: f32 = each[uniform(-3, 3), uniform(-3, 3), uniform(0, 30)],
             k: vec3 = uniform([0.6, 0.6, 0.6], [0.7, 0.801, 0.7]),
         }
         slots { b: b = 1.0 / 3.0, n: n = 1.0 / 3.0, m: m = 1.0 / 3.0 }
         |scope| {
-            let s = branch(scope, azimuth, 0.5, inclination, k, twist);
-            emit!(frustum, s.instance());
-            if !(expressed!(b) || expressed!(n) || expressed!(m)) {
-                emit!(leaf, leaf(&s));
-            }
-            child!(b, s);
-            child!(n, s);
-            child!(m, s);
-        }
-    }
-
-    node n emits {
-        params {
-            azimuth: f32 = uniform(180, 360),
-            inclination: f32 = uniform(35, 55),
-            twist: f32 = uniform(-3, 3),
-            k: vec3 = uniform([0.6, 0.6, 0.6], [0.7, 0.801, 0.7]),
-        }
-        slots { b: b = 1.0 / 3.0, n: n = 1.0 / 3.0, m: m = 1.0 / 3.0 }
-        |scope| {
-            let s = branch(scope, azimuth, 0.5, inclination, k, twist);
-            emit!(frustum, s.instance());
-            if !(expressed!(b) || expressed!(n) || expressed!(m)) {
-                emit!(leaf, leaf(&s));
-            }
-            child!(b, s);
-            child!(n, s);
-            child!(m, s);
-        }
-    }
-
-    node m emits {
-        params {
-            azimuth: f32 = uniform(0, 0),
-            inclination: f32 = uniform(0, 2),
-            twist: f32 = uniform(0, 30),
-            k: vec3 = uniform([0.6, 0.6, 0.6], [0.7, 0.801, 0.7]),
-        }
-        slots { b: b = 1.0 / 3.0, n: n = 1.0 / 3.0, m: m = 1.0 / 3.0 }
-        |scope| {
-            let s = branch(scope, azimuth, 0.5, inclination, k, twist);
+            let s = branch(scope, azimuth, attach, inclination, k, twist);
             emit!(frustum, s.instance());
             if !(expressed!(b) || expressed!(n) || expressed!(m)) {
                 emit!(leaf, leaf(&s));
