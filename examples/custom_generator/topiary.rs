@@ -51,7 +51,7 @@ generator! {
         params {
             height: f32 = uniform(0.6, 1.0),
             width: f32 = uniform(0.8, 1.4),
-            planter: choice = choice([2.0, 1.0]),
+            planter: choice([2.0, 1.0]),
         }
         slots { stem: Stem = 1.0 }
         |twig| {

@@ -1,14 +1,15 @@
 //! The generator's type, its inherent methods (`spec`, `try_graph`,
 //! `interpreter` and the node bodies) and its `Generator` implementation.
 
-use proc_macro2::{Ident, TokenStream};
+use proc_macro2::TokenStream;
 use quote::quote;
 
 use super::nodes::{Names, Nodes};
+use super::spec::Declaration;
 use crate::ast::Generator;
 use crate::body::hidden;
 
-pub fn expand(g: &Generator, module: &Ident, nodes: &Nodes) -> TokenStream {
+pub fn expand(g: &Generator, declaration: &Declaration, nodes: &Nodes) -> TokenStream {
     let krate = &g.krate;
     let (name, vis, attrs) = (&g.name, &g.vis, &g.attrs);
     let (state_ty, axiom) = super::state(g);
@@ -24,7 +25,15 @@ pub fn expand(g: &Generator, module: &Ident, nodes: &Nodes) -> TokenStream {
     let stack = hidden("__sg_stack");
     let sink = hidden("__sg_sink");
     let start_len = hidden("__sg_start");
+    let Declaration {
+        asserts,
+        spec,
+        shapes,
+        shape_count,
+    } = declaration;
     quote! {
+        #asserts
+
         #(#attrs)*
         #[doc = ""]
         #[doc = #summary]
@@ -34,23 +43,28 @@ pub fn expand(g: &Generator, module: &Ident, nodes: &Nodes) -> TokenStream {
         impl #name {
             /// The generator graph as declared.
             #vis fn spec() -> &'static #krate::graph::GraphSpec {
-                &#module::SPEC
+                static SPEC: ::std::sync::LazyLock<#krate::graph::GraphSpec> =
+                    ::std::sync::LazyLock::new(|| #spec);
+                &SPEC
             }
 
             /// The checked generator graph, or every problem the macro could
             /// not see at compile time (values given by non-literal expressions).
             #vis fn try_graph() -> ::core::result::Result<&'static #krate::graph::Graph, &'static #krate::graph::GraphErrors> {
-                #module::GRAPH.as_ref()
+                static GRAPH: ::std::sync::LazyLock<::core::result::Result<#krate::graph::Graph, #krate::graph::GraphErrors>> =
+                    ::std::sync::LazyLock::new(|| #krate::graph::Graph::new(#name::spec().clone()));
+                GRAPH.as_ref()
             }
 
-            /// The same generator run by the run-time [`Interpreter`](#krate::express::Interpreter):
+            /// The same generator run by the run-time `Interpreter`:
             /// identical geometry, with parameters and slots looked up by name.
             ///
             /// # Panics
             /// If the graph is invalid (see [`try_graph`](Self::try_graph)).
             #vis fn interpreter() -> #krate::express::Interpreter<#state_ty> {
                 let graph = <Self as #krate::express::Generator>::graph(&Self).clone();
-                #krate::express::Interpreter::new(graph, #module::SHAPES.iter().cloned(), #axiom)
+                let shapes = <Self as #krate::express::Generator>::shapes(&Self);
+                #krate::express::Interpreter::new(graph, shapes.iter().cloned(), #axiom)
                     #(#rules)*
                     .build()
                     .expect("every node has exactly one rule")
@@ -65,14 +79,15 @@ pub fn expand(g: &Generator, module: &Ident, nodes: &Nodes) -> TokenStream {
             /// # Panics
             /// If the graph is invalid (see [`try_graph`](Self::try_graph)).
             fn graph(&self) -> &#krate::graph::Graph {
-                match #module::GRAPH.as_ref() {
+                match #name::try_graph() {
                     ::core::result::Result::Ok(g) => g,
                     ::core::result::Result::Err(e) => ::core::panic!("{}", e),
                 }
             }
 
             fn shapes(&self) -> &[::std::borrow::Cow<'static, str>] {
-                &#module::SHAPES
+                static SHAPES: [::std::borrow::Cow<'static, str>; #shape_count] = #shapes;
+                &SHAPES
             }
 
             fn axiom(&self) -> #state_ty {

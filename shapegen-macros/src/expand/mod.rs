@@ -1,8 +1,8 @@
 //! Code generation, after the checks: the pipeline's entry point and the
 //! pieces it assembles.
 //!
-//! - [`spec`]: the graph declaration (a lazily built `GraphSpec` and its
-//!   checked `Graph`) and compile-time assertions of core's limits;
+//! - [`spec`]: the graph declaration (the `GraphSpec`, the shapes) and
+//!   compile-time assertions of core's limits;
 //! - [`nodes`]: one monomorphic function per node declaration, the
 //!   specialized dispatch arms and the interpreter's rules;
 //! - [`generator_impl`]: the type, its inherent methods and its
@@ -13,7 +13,7 @@ pub(crate) mod nodes;
 mod spec;
 
 use proc_macro2::TokenStream;
-use quote::{format_ident, quote};
+use quote::quote;
 
 use crate::ast::Generator;
 use crate::check;
@@ -58,11 +58,9 @@ pub fn state(g: &Generator) -> (TokenStream, TokenStream) {
 
 /// Generates the code of a checked declaration.
 fn expand(g: &Generator) -> TokenStream {
-    let module = format_ident!("__shapegen_{}", g.name);
-    let spec = spec::module(g, &module);
+    let declaration = spec::declaration(g);
     let nodes = nodes::expand(g);
-    let generator = generator_impl::expand(g, &module, &nodes);
-    quote!(#spec #generator)
+    generator_impl::expand(g, &declaration, &nodes)
 }
 
 #[cfg(test)]

@@ -1,6 +1,6 @@
-//! The graph declaration: a `GraphSpec` built once on first use, its checked
-//! `Graph`, the shape names, and compile-time assertions that the graph
-//! fits the limits core sets (`graph::MAX_NODES`, `graph::MAX_SLOTS`).
+//! The graph declaration: the `GraphSpec` (built once, on first use), the
+//! shape names, and compile-time assertions that the graph fits the limits
+//! core sets (`graph::MAX_NODES`, `graph::MAX_SLOTS`).
 
 use proc_macro2::{Ident, TokenStream};
 use quote::{quote, quote_spanned};
@@ -10,35 +10,40 @@ use crate::ast::{DistCall, Generator, Kind, Node, Param, Slot};
 use crate::body::slots_len;
 use crate::eval::{components, number};
 
-/// The hidden module holding the declaration's statics.
-pub fn module(g: &Generator, module: &Ident) -> TokenStream {
+/// The declaration's data, for [`generator_impl`](super::generator_impl).
+pub struct Declaration {
+    /// Compile-time assertions (items).
+    pub asserts: TokenStream,
+    /// An expression building the `GraphSpec`.
+    pub spec: TokenStream,
+    /// An expression of type `[Cow<'static, str>; shape_count]`.
+    pub shapes: TokenStream,
+    pub shape_count: usize,
+}
+
+/// The graph declaration. Everything is built inside the generated items
+/// (no helper module), so constants local to a function that declares a
+/// generator are in scope.
+pub fn declaration(g: &Generator) -> Declaration {
     let krate = &g.krate;
     let graph_name = g.name.to_string();
     let start = g.start.as_ref().map(|s| s.to_string()).unwrap_or_default();
     let nodes: Vec<TokenStream> = g.members().map(|(n, m)| node_spec(krate, n, m)).collect();
     let limits = limits(krate, g);
     let shapes: Vec<String> = g.shapes.iter().map(ToString::to_string).collect();
-    let shape_count = shapes.len();
-    let asserts = limit_assertions(g);
-    quote! {
-        #[doc(hidden)]
-        #[allow(non_upper_case_globals, non_snake_case)]
-        mod #module {
-            #[allow(unused_imports)]
-            use super::*;
+    Declaration {
+        asserts: limit_assertions(g),
+        spec: quote! {{
             use ::std::borrow::Cow;
-            #asserts
-            pub static SPEC: ::std::sync::LazyLock<#krate::graph::GraphSpec> =
-                ::std::sync::LazyLock::new(|| #krate::graph::GraphSpec {
-                    name: Cow::Borrowed(#graph_name),
-                    nodes: Cow::Owned(::std::vec![#(#nodes),*]),
-                    start: Cow::Borrowed(#start),
-                    limits: #limits,
-                });
-            pub static SHAPES: [Cow<'static, str>; #shape_count] = [#(Cow::Borrowed(#shapes)),*];
-            pub static GRAPH: ::std::sync::LazyLock<::core::result::Result<#krate::graph::Graph, #krate::graph::GraphErrors>> =
-                ::std::sync::LazyLock::new(|| #krate::graph::Graph::new((*SPEC).clone()));
-        }
+            #krate::graph::GraphSpec {
+                name: Cow::Borrowed(#graph_name),
+                nodes: Cow::Owned(::std::vec![#(#nodes),*]),
+                start: Cow::Borrowed(#start),
+                limits: #limits,
+            }
+        }},
+        shapes: quote!([#(::std::borrow::Cow::Borrowed(#shapes)),*]),
+        shape_count: shapes.len(),
     }
 }
 

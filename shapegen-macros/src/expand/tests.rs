@@ -23,7 +23,7 @@ fn expands_a_graph_and_specialized_code() {
     let out = expand(TOWER);
     assert!(!out.contains("compile_error"), "{out}");
     for needle in [
-        "pub static SPEC",
+        "static SPEC",
         "fn __sg_node_Floor",
         "impl :: shapegen :: express :: Generator for Tower",
         // Probabilities made of literals are exact reals: 1 / 4 = 0.25.
