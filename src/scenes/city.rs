@@ -56,7 +56,30 @@ pub(crate) fn turn_and_step(mut s: Scope, quarters: i32) -> Scope {
     step(s)
 }
 
-generator! {
+/// Declares a city: the declaration given plus the `Building` node both
+/// cities share (one set of ranges, one body), placed on the lot it is
+/// given. Sizes are declared ×10 as in the paper's configurations.
+macro_rules! city {
+    ($($declaration:tt)*) => {
+        generator! {
+            $($declaration)*
+
+            node Building emits {
+                params {
+                    footprint: vec2 = uniform([0.2 * 22.0, 0.2 * 22.0], [0.9 * 22.0, 0.9 * 22.0]),
+                    height: f32 = uniform(1.2 * 3.0, 100.0),
+                    floor_height: f32 = uniform(2.4, 3.6),
+                    rotation: f32 = uniform(0.0, std::f32::consts::PI),
+                }
+                |scope| {
+                    emit!(cube, building(scope, footprint, height, rotation));
+                }
+            }
+        }
+    };
+}
+
+city! {
     /// The paper's space-filling city (Fig. 8b): four arms of lots leave the
     /// centre; a dual lot continues straight and may branch off a single lot
     /// to its right; every lot may carry a building (a box emitted as `cube`).
@@ -99,18 +122,6 @@ generator! {
             child!(single, step(scope));
         }
     }
-
-    node Building emits {
-        params {
-            footprint: vec2 = uniform([0.2 * 22.0, 0.2 * 22.0], [0.9 * 22.0, 0.9 * 22.0]),
-            height: f32 = uniform(1.2 * 3.0, 100.0),
-            floor_height: f32 = uniform(2.4, 3.6),
-            rotation: f32 = uniform(0.0, std::f32::consts::PI),
-        }
-        |scope| {
-            emit!(cube, building(scope, footprint, height, rotation));
-        }
-    }
 }
 
 /// Number of lots along each side of the grid city.
@@ -122,7 +133,7 @@ pub fn grid_lot(index: usize) -> Vec3 {
     Vec3::new(-9.9 + LOT_STEP * i, 0.0, -9.9 + LOT_STEP * j)
 }
 
-generator! {
+city! {
     /// The grid city of the volume scene (`city_sep`): a 10 × 10 grid of
     /// lots 2.2 apart, each holding a building with probability 0.33. Lot
     /// `(i, j)` is slot `lots[i + 10 j]` (the reference code derived it from
@@ -137,18 +148,6 @@ generator! {
             for k in 0..GRID * GRID {
                 child!(lots[k], scope.translated(grid_lot(k)));
             }
-        }
-    }
-
-    node Building emits {
-        params {
-            footprint: vec2 = uniform([0.2 * 22.0, 0.2 * 22.0], [0.9 * 22.0, 0.9 * 22.0]),
-            height: f32 = uniform(1.2 * 3.0, 100.0),
-            floor_height: f32 = uniform(2.4, 3.6),
-            rotation: f32 = uniform(0.0, std::f32::consts::PI),
-        }
-        |scope| {
-            emit!(cube, building(scope, footprint, height, rotation));
         }
     }
 }
