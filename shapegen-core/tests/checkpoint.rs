@@ -6,7 +6,7 @@
 use std::ops::ControlFlow;
 
 use shapegen_core::demo::{BlocksTarget, blocks_graph};
-use shapegen_core::optimize::{Checkpoint, Rjmcmc, RjmcmcParams, SavedState, Smc, SmcParams};
+use shapegen_core::optimize::{Checkpoint, Rjmcmc, RjmcmcParams, Run, SavedState, Smc, SmcParams};
 use shapegen_core::prelude::*;
 
 const TOTAL: u64 = 14;
@@ -136,7 +136,14 @@ fn foreign_checkpoints_are_refused() {
     let why = refused(other.resume(&graph, &fitness, &budget, &cp, &mut NoObserver));
     assert!(why.contains("parameters"), "{why}");
     // Another seed.
-    let why = refused(ga.run_from(&graph, &fitness, &budget, 8, Some(&cp), &mut NoObserver));
+    let why = refused(ga.run_from(Run {
+        graph: &graph,
+        fitness: &fitness,
+        budget,
+        seed: 8,
+        start: Some(&cp),
+        observer: &mut NoObserver,
+    }));
     assert!(why.contains("seed"), "{why}");
     // Another graph: the stored chromosomes do not belong to it.
     let other_graph = GraphBuilder::new("other")

@@ -121,7 +121,8 @@ pub use error::ExperimentError;
 
 use crate::genome::{Chromosome, ChromosomeData};
 use crate::graph::Graph;
-use crate::optimize::{Budget, Checkpoint, GaParams, Observer, RjmcmcParams, RunResult, SmcParams};
+pub use crate::optimize::MethodParams;
+use crate::optimize::{Budget, Checkpoint, Observer, RunResult};
 use crate::registry::Registry;
 use crate::score::Quality;
 use problem::Problem;
@@ -174,17 +175,6 @@ impl FromStr for Method {
             .find(|m| m.name() == s.trim().to_ascii_lowercase())
             .ok_or_else(|| ExperimentError::UnknownMethod(s.to_string()))
     }
-}
-
-/// The parameters of one method.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum MethodParams {
-    /// GA parameters.
-    Ga(GaParams),
-    /// SMC or SOSMC parameters (the slot order tells which).
-    Smc(SmcParams),
-    /// RJMCMC parameters.
-    Rjmcmc(RjmcmcParams),
 }
 
 /// A method's parameters and its own budget, if the file gives one.

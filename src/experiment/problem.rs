@@ -11,8 +11,8 @@ use crate::genome::Chromosome;
 use crate::glam::Affine3A;
 use crate::graph::Graph;
 use crate::optimize::{
-    Budget, Checkpoint, FNV1A_START, Fitness, Ga, Observer, OptimizeError, Optimizer, Rjmcmc,
-    RunResult, Smc, fnv1a,
+    Budget, Checkpoint, FNV1A_START, Fitness, Observer, OptimizeError, Optimizer, Run, RunResult,
+    fnv1a,
 };
 use crate::score::VolumeScene;
 use crate::score::write_atomically;
@@ -275,14 +275,14 @@ where
         resume: Option<&Checkpoint>,
         observer: &mut dyn Observer,
     ) -> Result<RunResult, OptimizeError> {
-        let (g, f) = (&self.graph, &self.fitness);
-        match *method {
-            MethodParams::Ga(p) => Ga::new(p).run_from(g, f, budget, seed, resume, observer),
-            MethodParams::Smc(p) => Smc::new(p).run_from(g, f, budget, seed, resume, observer),
-            MethodParams::Rjmcmc(p) => {
-                Rjmcmc::new(p).run_from(g, f, budget, seed, resume, observer)
-            }
-        }
+        method.run_from(Run {
+            graph: &self.graph,
+            fitness: &self.fitness,
+            budget: *budget,
+            seed,
+            start: resume,
+            observer,
+        })
     }
 
     fn evaluate(&self, chromosome: &Chromosome) -> f64 {

@@ -1,16 +1,18 @@
 //! The genetic algorithm (paper Algorithm 1).
 
+use std::borrow::Cow;
 use std::collections::HashSet;
+use std::ops::ControlFlow;
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::checkpoint::{Checkpoint, RunId, SavedIndividual, SavedState};
+use super::checkpoint::{Checkpoint, SavedIndividual, SavedState};
+use super::driver::{Context, Method, Run, drive};
+use super::evaluation::Candidate;
 use super::fitness::is_valid_score;
-use super::progress::{Candidate, Progress, evaluate, evaluate_until};
-use super::scratch::ScratchPool;
 use super::selection::{Roulette, RouletteShift, rank_order, tournament};
-use super::{Budget, Fitness, Individual, Observer, OptimizeError, Optimizer, RunResult, purpose};
+use super::{Fitness, Individual, OptimizeError, Optimizer, RunResult, purpose};
 use crate::graph::Graph;
 use crate::ops::{
     CrossoverConfig, InitLength, MutationSplit, crossover, mutate, random_individual,
@@ -223,87 +225,125 @@ impl Optimizer for Ga {
         "ga"
     }
 
-    fn run_from<F: Fitness>(
-        &self,
-        graph: &Graph,
-        fitness: &F,
-        budget: &Budget,
-        seed: u64,
-        start: Option<&Checkpoint>,
-        observer: &mut dyn Observer,
-    ) -> Result<RunResult, OptimizeError> {
-        let id = RunId::new(graph, self.name(), &self.params, seed);
-        let mut progress = Progress::start(id, self.params.problems(), *budget, observer)?;
-        let pool = ScratchPool::new();
-        let mut population = match start {
-            Some(cp) => {
-                let SavedState::Population { individuals } = progress.resume(cp)? else {
-                    return Err(OptimizeError::Checkpoint(
-                        "it holds no GA population".into(),
-                    ));
-                };
-                if individuals.len() != self.params.population {
-                    return Err(OptimizeError::Checkpoint(format!(
-                        "it holds {} individuals for a population of {}",
-                        individuals.len(),
-                        self.params.population
-                    )));
-                }
-                individuals
-                    .iter()
-                    .map(|i| i.restore(graph))
-                    .collect::<Result<Vec<_>, _>>()?
-            }
-            None => {
-                // Stopped by Ctrl-C or the clock like any generation: a
-                // generation 0 slower than the budget ends at the budget,
-                // with the models evaluated by then (the rest are NaN).
-                let (population, fresh) = evaluate_until(
-                    fitness,
-                    self.initial_population(graph, seed)?,
-                    &pool,
-                    progress.stop_flag(),
-                    progress.deadline(),
-                );
-                progress.evaluations += fresh;
-                population
-            }
+    fn run_from<F: Fitness>(&self, run: Run<'_, F>) -> Result<RunResult, OptimizeError> {
+        drive(self, run)
+    }
+}
+
+/// The GA's state: the population, and the roulette and score buffers reused across generations.
+pub(crate) struct GaState {
+    population: Vec<Individual>,
+    wheel: Roulette,
+    scores: Vec<f64>,
+}
+
+impl GaState {
+    /// The state of `population`, sorted best first (stable; failed
+    /// evaluations last) as selection and the elites expect.
+    fn new(mut population: Vec<Individual>) -> Self {
+        population.sort_by(|a, b| rank_order(a.fitness, b.fitness));
+        Self {
+            scores: Vec::with_capacity(population.len()),
+            population,
+            wheel: Roulette::default(),
+        }
+    }
+}
+
+impl Method for Ga {
+    type Params = GaParams;
+    type State = GaState;
+
+    fn name(&self) -> &'static str {
+        "ga"
+    }
+
+    fn params(&self) -> &GaParams {
+        &self.params
+    }
+
+    fn problems(&self) -> Vec<String> {
+        self.params.problems()
+    }
+
+    fn init<F: Fitness>(&self, cx: &mut Context<'_, '_, F>) -> Result<GaState, OptimizeError> {
+        // Stopped by Ctrl-C or the clock like any generation: a generation 0
+        // slower than the budget ends at the budget, with the models
+        // evaluated by then (the rest are NaN).
+        let initial = self.initial_population(cx.graph, cx.seed)?;
+        Ok(GaState::new(cx.evaluate_within_budget(initial)))
+    }
+
+    fn restore(&self, graph: &Graph, checkpoint: &Checkpoint) -> Result<GaState, OptimizeError> {
+        let SavedState::Population { individuals } = &checkpoint.state else {
+            return Err(OptimizeError::Checkpoint(
+                "it holds no GA population".into(),
+            ));
         };
-        let mut wheel = Roulette::default();
-        let mut scores = Vec::with_capacity(self.params.population);
-        loop {
-            population.sort_by(|a, b| rank_order(a.fitness, b.fitness));
-            let save = || SavedState::Population {
-                individuals: population
-                    .iter()
-                    .map(|i| SavedIndividual::save(graph, i))
-                    .collect(),
-            };
-            if let Some(stop) = progress.generation_end(&population, &save) {
-                return Ok(progress.finish(stop, population));
+        if individuals.len() != self.params.population {
+            return Err(OptimizeError::Checkpoint(format!(
+                "it holds {} individuals for a population of {}",
+                individuals.len(),
+                self.params.population
+            )));
+        }
+        let population = individuals
+            .iter()
+            .map(|i| i.restore(graph))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(GaState::new(population))
+    }
+
+    fn save(&self, graph: &Graph, state: &GaState) -> SavedState {
+        SavedState::Population {
+            individuals: state
+                .population
+                .iter()
+                .map(|i| SavedIndividual::save(graph, i))
+                .collect(),
+        }
+    }
+
+    fn report<'s>(&self, _graph: &Graph, state: &'s GaState) -> Cow<'s, [Individual]> {
+        Cow::Borrowed(&state.population)
+    }
+
+    fn final_population(&self, _graph: &Graph, state: GaState) -> Vec<Individual> {
+        state.population
+    }
+
+    fn step<F: Fitness>(
+        &self,
+        cx: &mut Context<'_, '_, F>,
+        state: &mut GaState,
+    ) -> Result<ControlFlow<Vec<Individual>>, OptimizeError> {
+        let (graph, seed, generation) = (cx.graph, cx.seed, cx.generation());
+        let GaState {
+            population,
+            wheel,
+            scores,
+        } = state;
+        let mut next = self.elites(graph, population);
+        scores.clear();
+        scores.extend(population.iter().map(|i| i.fitness));
+        wheel.rebuild(scores, self.params.roulette);
+        let missing = self.params.population - next.len();
+        let children: Vec<Candidate> = (0..missing.div_ceil(2) as u64)
+            .into_par_iter()
+            .flat_map_iter(|i| {
+                let mut rng = stream(seed, &[generation, i, purpose::BREED]);
+                self.breed_pair(graph, population, wheel, &mut rng)
+            })
+            .collect();
+        // With one place left, only the pair's first child is kept.
+        next.extend(children.into_iter().take(missing));
+        match cx.evaluate_interruptible(next) {
+            Some(mut evaluated) => {
+                evaluated.sort_by(|a, b| rank_order(a.fitness, b.fitness));
+                *population = evaluated;
+                Ok(ControlFlow::Continue(()))
             }
-            progress.generation += 1;
-            let generation = progress.generation;
-            let mut next = self.elites(graph, &population);
-            scores.clear();
-            scores.extend(population.iter().map(|i| i.fitness));
-            wheel.rebuild(&scores, self.params.roulette);
-            let missing = self.params.population - next.len();
-            let children: Vec<Candidate> = (0..missing.div_ceil(2) as u64)
-                .into_par_iter()
-                .flat_map_iter(|i| {
-                    let mut rng = stream(seed, &[generation, i, purpose::BREED]);
-                    self.breed_pair(graph, &population, &wheel, &mut rng)
-                })
-                .collect();
-            // With one place left, only the pair's first child is kept.
-            next.extend(children.into_iter().take(missing));
-            let (evaluated, fresh) = evaluate(fitness, next, &pool, progress.stop_flag());
-            if progress.interrupted() {
-                return Ok(progress.abandon(population));
-            }
-            progress.evaluations += fresh;
-            population = evaluated;
+            None => Ok(ControlFlow::Break(std::mem::take(population))),
         }
     }
 }
@@ -313,7 +353,7 @@ mod tests {
     use super::*;
     use crate::genome::Chromosome;
     use crate::graph::{Dist, GraphBuilder};
-    use crate::optimize::{FnFitness, NoObserver};
+    use crate::optimize::{Budget, FnFitness, NoObserver};
 
     fn graph() -> Graph {
         GraphBuilder::new("t")

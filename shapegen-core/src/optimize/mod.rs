@@ -12,13 +12,15 @@
 
 mod budget;
 mod checkpoint;
+mod driver;
+mod evaluation;
 mod fitness;
 mod ga;
+mod method;
 mod observer;
 mod progress;
 mod random;
 mod rjmcmc;
-mod scratch;
 mod selection;
 mod smc;
 
@@ -28,12 +30,14 @@ pub use budget::{Budget, StopReason};
 pub use checkpoint::{
     CHECKPOINT_VERSION, Checkpoint, FNV1A_START, SavedIndividual, SavedParticle, SavedState, fnv1a,
 };
+pub use driver::Run;
+pub use evaluation::{Pooled, ScratchPool, evaluate_all};
 pub use fitness::{Fitness, FnFitness, is_valid_score};
 pub use ga::{Ga, GaParams};
+pub use method::MethodParams;
 pub use observer::{GenerationStats, Interruptible, NoObserver, Observer};
 pub use random::RandomSearch;
 pub use rjmcmc::{DelayedRejection, Ladder, LogLikelihood, Rjmcmc, RjmcmcParams};
-pub use scratch::{Pooled, ScratchPool, evaluate_all};
 pub use selection::{Roulette, RouletteShift, rank_order, tournament};
 pub use smc::{MAX_STEP_GENES, Resampling, SlotOrder, Smc, SmcParams, SmcWeights};
 
@@ -88,6 +92,10 @@ pub enum OptimizeError {
 }
 
 /// An optimization method over the chromosomes of a generator graph.
+///
+/// Every method runs in the same loop (`driver`): parameter and budget
+/// checks, start or resume, one report per generation, stop, finish; a
+/// method's file holds only its algorithm.
 pub trait Optimizer {
     /// Short name of the method (`"ga"`, `"smc"`, ...).
     fn name(&self) -> &'static str;
@@ -102,7 +110,14 @@ pub trait Optimizer {
         seed: u64,
         observer: &mut dyn Observer,
     ) -> Result<RunResult, OptimizeError> {
-        self.run_from(graph, fitness, budget, seed, None, observer)
+        self.run_from(Run {
+            graph,
+            fitness,
+            budget: *budget,
+            seed,
+            start: None,
+            observer,
+        })
     }
 
     /// Continues the run saved in `checkpoint` (see
@@ -118,27 +133,19 @@ pub trait Optimizer {
         checkpoint: &Checkpoint,
         observer: &mut dyn Observer,
     ) -> Result<RunResult, OptimizeError> {
-        self.run_from(
+        self.run_from(Run {
             graph,
             fitness,
-            budget,
-            checkpoint.seed,
-            Some(checkpoint),
+            budget: *budget,
+            seed: checkpoint.seed,
+            start: Some(checkpoint),
             observer,
-        )
+        })
     }
 
-    /// [`run`](Self::run) from the beginning (`start = None`) or
+    /// [`run`](Self::run) from the beginning (`run.start = None`) or
     /// [`resume`](Self::resume) from a checkpoint.
-    fn run_from<F: Fitness>(
-        &self,
-        graph: &Graph,
-        fitness: &F,
-        budget: &Budget,
-        seed: u64,
-        start: Option<&Checkpoint>,
-        observer: &mut dyn Observer,
-    ) -> Result<RunResult, OptimizeError>;
+    fn run_from<F: Fitness>(&self, run: Run<'_, F>) -> Result<RunResult, OptimizeError>;
 }
 
 /// Stream purposes, so that streams for different decisions never coincide.

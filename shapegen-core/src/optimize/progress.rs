@@ -1,93 +1,17 @@
-//! Bookkeeping shared by every optimizer: evaluation, counting, best-so-far,
-//! observer calls and budget checks.
+//! Bookkeeping shared by every optimizer: counting, best-so-far, observer
+//! calls, checkpoints and budget checks.
 
 use std::ops::ControlFlow;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use rayon::prelude::*;
-
 use super::budget::{Budget, StopReason};
 use super::checkpoint::{Checkpoint, RunId, SavedState};
-use super::fitness::{Fitness, is_valid_score};
+use super::fitness::is_valid_score;
 use super::observer::{GenerationStats, Observer, Snapshot, mean_std};
-use super::scratch::ScratchPool;
 use super::selection::rank_order;
 use super::{Individual, OptimizeError, RunResult};
-use crate::genome::Chromosome;
-
-/// A chromosome whose fitness may not be known yet.
-#[derive(Clone, Debug)]
-pub(crate) struct Candidate {
-    pub chromosome: Chromosome,
-    /// Known fitness (e.g. an unchanged copy of an evaluated parent).
-    pub fitness: Option<f64>,
-}
-
-impl Candidate {
-    pub fn new(chromosome: Chromosome) -> Self {
-        Self {
-            chromosome,
-            fitness: None,
-        }
-    }
-}
-
-/// Evaluates the candidates without a known fitness, in parallel.
-///
-/// Each rayon job borrows one scratch from `pool` (kept across generations).
-/// Evaluation is pure, so the result does not depend on the number of threads.
-///
-/// Once `stop` is set the remaining evaluations are skipped (NaN): the
-/// caller then drops the generation ([`Progress::abandon`]).
-pub(crate) fn evaluate<F: Fitness>(
-    fitness: &F,
-    candidates: Vec<Candidate>,
-    pool: &ScratchPool<F::Scratch>,
-    stop: Option<&AtomicBool>,
-) -> (Vec<Individual>, u64) {
-    evaluate_until(fitness, candidates, pool, stop, None)
-}
-
-/// [`evaluate`], also skipping the evaluations not started by `deadline`:
-/// for an initial population, which no generation end can stop and which
-/// may take longer than the whole budget (a model covering the whole grid
-/// at every instance). Only evaluations that were done are counted.
-pub(crate) fn evaluate_until<F: Fitness>(
-    fitness: &F,
-    candidates: Vec<Candidate>,
-    pool: &ScratchPool<F::Scratch>,
-    stop: Option<&AtomicBool>,
-    deadline: Option<Instant>,
-) -> (Vec<Individual>, u64) {
-    let done = std::sync::atomic::AtomicU64::new(0);
-    let stopped = || {
-        stop.is_some_and(|s| s.load(Ordering::Relaxed))
-            || deadline.is_some_and(|d| Instant::now() >= d)
-    };
-    let individuals = candidates
-        .into_par_iter()
-        .map_init(
-            || pool.take(|| fitness.scratch()),
-            |scratch, c| {
-                let f = c.fitness.unwrap_or_else(|| {
-                    if stopped() {
-                        f64::NAN
-                    } else {
-                        done.fetch_add(1, Ordering::Relaxed);
-                        fitness.evaluate(&c.chromosome, scratch)
-                    }
-                });
-                Individual {
-                    chromosome: c.chromosome,
-                    fitness: f,
-                }
-            },
-        )
-        .collect();
-    (individuals, done.into_inner())
-}
 
 /// Counts, best-so-far, observer and budget of one run.
 pub(crate) struct Progress<'o> {
@@ -154,21 +78,6 @@ impl<'o> Progress<'o> {
     fn elapsed(&self) -> Duration {
         // Saturating: a checkpoint may claim any time so far.
         self.offset.saturating_add(self.start.elapsed())
-    }
-
-    /// Ends a generation: reports it ([`generation_done`](Self::generation_done))
-    /// and tells whether to stop — except for the generation a resumed run
-    /// starts from, reported before its checkpoint, where only the budget is checked.
-    pub fn generation_end(
-        &mut self,
-        population: &[Individual],
-        state: &dyn Fn() -> SavedState,
-    ) -> Option<StopReason> {
-        if self.take_resumed() {
-            self.budget_reached()
-        } else {
-            self.generation_done(population, state)
-        }
     }
 
     /// Whether this is the generation a resumed run starts from (already

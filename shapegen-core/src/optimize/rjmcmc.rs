@@ -28,15 +28,18 @@
 //! (parallel tempering); once per generation one random adjacent pair
 //! proposes to swap states.
 
+use std::borrow::Cow;
+use std::ops::ControlFlow;
+
 use rand::{Rng, RngExt};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::checkpoint::{Checkpoint, RunId, SavedIndividual, SavedState};
+use super::checkpoint::{Checkpoint, SavedIndividual, SavedState};
+use super::driver::{Context, Method, Run, drive};
+use super::evaluation::Candidate;
 use super::fitness::is_valid_score;
-use super::progress::{Candidate, Progress, evaluate};
-use super::scratch::ScratchPool;
-use super::{Budget, Fitness, Observer, OptimizeError, Optimizer, RunResult, purpose};
+use super::{Fitness, Individual, OptimizeError, Optimizer, RunResult, purpose};
 use crate::genome::{Chromosome, word};
 use crate::graph::Graph;
 use crate::ops::{InitLength, cut_unchecked, grow_unchecked, random_individual};
@@ -424,20 +427,18 @@ impl Rjmcmc {
     /// The second stage for every chain whose jump was rejected.
     fn delayed_rejection<F: Fitness>(
         &self,
-        graph: &Graph,
-        fitness: &F,
-        pool: &ScratchPool<F::Scratch>,
-        progress: &mut Progress<'_>,
+        cx: &mut Context<'_, '_, F>,
         chains: &mut [super::Individual],
         stage: &SecondStage<'_>,
     ) {
+        let graph = cx.graph;
         let SecondStage {
             proposals,
             rejected,
             betas,
             seed,
         } = *stage;
-        let g = progress.generation;
+        let g = cx.generation();
         let second: Vec<(usize, Chromosome, f64)> = rejected
             .par_iter()
             .filter_map(|&(i, _)| {
@@ -452,8 +453,7 @@ impl Rjmcmc {
             .map(|(_, y, _)| Candidate::new(y.clone()))
             .collect();
         // Not interrupted: the first stage already changed the chains.
-        let (evaluated, fresh) = evaluate(fitness, candidates, pool, None);
-        progress.evaluations += fresh;
+        let evaluated = cx.evaluate(candidates);
         let ll = self.params.log_likelihood;
         for ((i, _, u), y2) in second.iter().zip(evaluated) {
             let (i, beta) = (*i, betas[*i]);
@@ -507,145 +507,170 @@ impl Optimizer for Rjmcmc {
         "rjmcmc"
     }
 
-    fn run_from<F: Fitness>(
-        &self,
-        graph: &Graph,
-        fitness: &F,
-        budget: &Budget,
-        seed: u64,
-        start: Option<&Checkpoint>,
-        observer: &mut dyn Observer,
-    ) -> Result<RunResult, OptimizeError> {
-        let id = RunId::new(graph, self.name(), &self.params, seed);
-        let mut progress = Progress::start(id, self.params.problems(), *budget, observer)?;
-        let pool = ScratchPool::new();
-        let (mut chains, mut betas) = match start {
-            Some(cp) => {
-                let SavedState::Chains { chains, betas_bits } = progress.resume(cp)? else {
-                    return Err(OptimizeError::Checkpoint(
-                        "it holds no RJMCMC chains".into(),
-                    ));
-                };
-                if chains.len() != self.params.chains || betas_bits.len() != chains.len() {
-                    return Err(OptimizeError::Checkpoint(format!(
-                        "it holds {} chains, not {}",
-                        chains.len(),
-                        self.params.chains
-                    )));
-                }
-                let chains = chains
-                    .iter()
-                    .map(|c| c.restore(graph))
-                    .collect::<Result<Vec<_>, _>>()?;
-                (
-                    chains,
-                    betas_bits.iter().map(|&b| f64::from_bits(b)).collect(),
-                )
-            }
-            None => {
-                let init: Vec<Candidate> = (0..self.params.chains as u64)
-                    .into_par_iter()
-                    .map(|i| {
-                        Ok(Candidate::new(random_individual(
-                            graph,
-                            &self.params.init,
-                            &mut stream(seed, &[0, i, purpose::INIT]),
-                        )?))
-                    })
-                    .collect::<Result<_, OptimizeError>>()?;
-                let (chains, fresh) = evaluate(fitness, init, &pool, None);
-                progress.evaluations += fresh;
-                (chains, self.params.ladder.betas(self.params.chains))
-            }
+    fn run_from<F: Fitness>(&self, run: Run<'_, F>) -> Result<RunResult, OptimizeError> {
+        drive(self, run)
+    }
+}
+
+/// The chains (one per temperature) and their inverse temperatures.
+pub(crate) struct Chains {
+    chains: Vec<Individual>,
+    betas: Vec<f64>,
+}
+
+impl Method for Rjmcmc {
+    type Params = RjmcmcParams;
+    type State = Chains;
+
+    fn name(&self) -> &'static str {
+        "rjmcmc"
+    }
+
+    fn params(&self) -> &RjmcmcParams {
+        &self.params
+    }
+
+    fn problems(&self) -> Vec<String> {
+        self.params.problems()
+    }
+
+    fn init<F: Fitness>(&self, cx: &mut Context<'_, '_, F>) -> Result<Chains, OptimizeError> {
+        let (graph, seed) = (cx.graph, cx.seed);
+        let init: Vec<Candidate> = (0..self.params.chains as u64)
+            .into_par_iter()
+            .map(|i| {
+                Ok(Candidate::new(random_individual(
+                    graph,
+                    &self.params.init,
+                    &mut stream(seed, &[0, i, purpose::INIT]),
+                )?))
+            })
+            .collect::<Result<_, OptimizeError>>()?;
+        Ok(Chains {
+            chains: cx.evaluate(init),
+            betas: self.params.ladder.betas(self.params.chains),
+        })
+    }
+
+    fn restore(&self, graph: &Graph, checkpoint: &Checkpoint) -> Result<Chains, OptimizeError> {
+        let SavedState::Chains { chains, betas_bits } = &checkpoint.state else {
+            return Err(OptimizeError::Checkpoint(
+                "it holds no RJMCMC chains".into(),
+            ));
         };
-        let ll = self.params.log_likelihood;
-        loop {
-            let save = || SavedState::Chains {
-                chains: chains
-                    .iter()
-                    .map(|c| SavedIndividual::save(graph, c))
-                    .collect(),
-                betas_bits: betas.iter().map(|b| b.to_bits()).collect(),
-            };
-            let stop = progress.generation_end(&chains, &save);
-            if let Some(stop) = stop {
-                return Ok(progress.finish(stop, chains));
-            }
-            progress.generation += 1;
-            let g = progress.generation;
-            let proposals: Vec<(Proposal, f64)> = chains
-                .par_iter()
-                .enumerate()
-                .map(|(i, x)| {
-                    let mut rng = stream(seed, &[g, i as u64, purpose::BREED]);
-                    let p = self.propose(graph, &x.chromosome, &mut rng);
-                    (p, rng.random::<f64>())
-                })
-                .collect();
-            let candidates = proposals
+        if chains.len() != self.params.chains || betas_bits.len() != chains.len() {
+            return Err(OptimizeError::Checkpoint(format!(
+                "it holds {} chains, not {}",
+                chains.len(),
+                self.params.chains
+            )));
+        }
+        Ok(Chains {
+            chains: chains
                 .iter()
-                .zip(&chains)
-                .map(|((p, _), x)| Candidate {
-                    chromosome: p.state.clone(),
-                    fitness: (!p.changed).then_some(x.fitness),
-                })
-                .collect();
-            let (evaluated, fresh) = evaluate(fitness, candidates, &pool, progress.stop_flag());
-            if progress.interrupted() {
-                return Ok(progress.abandon(chains));
+                .map(|c| c.restore(graph))
+                .collect::<Result<Vec<_>, _>>()?,
+            betas: betas_bits.iter().map(|&b| f64::from_bits(b)).collect(),
+        })
+    }
+
+    fn save(&self, graph: &Graph, state: &Chains) -> SavedState {
+        SavedState::Chains {
+            chains: state
+                .chains
+                .iter()
+                .map(|c| SavedIndividual::save(graph, c))
+                .collect(),
+            betas_bits: state.betas.iter().map(|b| b.to_bits()).collect(),
+        }
+    }
+
+    fn report<'s>(&self, _graph: &Graph, state: &'s Chains) -> Cow<'s, [Individual]> {
+        Cow::Borrowed(&state.chains)
+    }
+
+    fn final_population(&self, _graph: &Graph, state: Chains) -> Vec<Individual> {
+        state.chains
+    }
+
+    fn step<F: Fitness>(
+        &self,
+        cx: &mut Context<'_, '_, F>,
+        state: &mut Chains,
+    ) -> Result<ControlFlow<Vec<Individual>>, OptimizeError> {
+        let (graph, seed, g) = (cx.graph, cx.seed, cx.generation());
+        let Chains { chains, betas } = state;
+        let ll = self.params.log_likelihood;
+        let proposals: Vec<(Proposal, f64)> = chains
+            .par_iter()
+            .enumerate()
+            .map(|(i, x)| {
+                let mut rng = stream(seed, &[g, i as u64, purpose::BREED]);
+                let p = self.propose(graph, &x.chromosome, &mut rng);
+                (p, rng.random::<f64>())
+            })
+            .collect();
+        let candidates = proposals
+            .iter()
+            .zip(chains.iter())
+            .map(|((p, _), x)| Candidate {
+                chromosome: p.state.clone(),
+                fitness: (!p.changed).then_some(x.fitness),
+            })
+            .collect();
+        let Some(evaluated) = cx.evaluate_interruptible(candidates) else {
+            return Ok(ControlFlow::Break(std::mem::take(chains)));
+        };
+        // First stage; remember rejected jumps (with y1's fitness) for delayed rejection.
+        let mut rejected: Vec<(usize, f64)> = Vec::new();
+        let stage = chains
+            .iter_mut()
+            .zip(evaluated)
+            .zip(&proposals)
+            .zip(betas.iter())
+            .enumerate();
+        for (i, (((x, y), (p, u)), beta)) in stage {
+            if !p.changed {
+                continue;
             }
-            progress.evaluations += fresh;
-            // First stage; remember rejected jumps (with y1's fitness) for delayed rejection.
-            let mut rejected: Vec<(usize, f64)> = Vec::new();
-            let stage = chains
-                .iter_mut()
-                .zip(evaluated)
-                .zip(&proposals)
-                .zip(&betas)
-                .enumerate();
-            for (i, (((x, y), (p, u)), beta)) in stage {
-                if !p.changed {
-                    continue;
-                }
-                let accept = if !is_valid_score(y.fitness) {
-                    false
-                } else if !is_valid_score(x.fitness) {
-                    true
-                } else {
-                    let log_alpha =
-                        beta * ll.difference(x.fitness, y.fitness) + p.selection_ratio.ln();
-                    u.ln() < log_alpha
-                };
-                if accept {
-                    *x = y;
-                } else if p.jump.is_some() && is_valid_score(x.fitness) {
-                    rejected.push((i, y.fitness));
-                }
-            }
-            if self.params.delayed_rejection != DelayedRejection::Off && !rejected.is_empty() {
-                let stage = SecondStage {
-                    proposals: &proposals,
-                    rejected: &rejected,
-                    betas: &betas,
-                    seed,
-                };
-                self.delayed_rejection(graph, fitness, &pool, &mut progress, &mut chains, &stage);
-            }
-            // Parallel tempering: one adjacent pair proposes to swap states.
-            if chains.len() > 1 && !matches!(self.params.ladder, Ladder::Flat) {
-                let mut rng = stream(seed, &[g, u64::MAX, purpose::BREED]);
-                let i = rng.random_range(0..chains.len() - 1);
-                let (a, b) = (&chains[i], &chains[i + 1]);
-                if is_valid_score(a.fitness) && is_valid_score(b.fitness) {
-                    let log_alpha = (betas[i] - betas[i + 1]) * ll.difference(a.fitness, b.fitness);
-                    if rng.random::<f64>().ln() < log_alpha {
-                        chains.swap(i, i + 1);
-                    }
-                }
-            }
-            if let Some(factor) = self.params.annealing {
-                betas.iter_mut().for_each(|b| *b *= factor);
+            let accept = if !is_valid_score(y.fitness) {
+                false
+            } else if !is_valid_score(x.fitness) {
+                true
+            } else {
+                let log_alpha = beta * ll.difference(x.fitness, y.fitness) + p.selection_ratio.ln();
+                u.ln() < log_alpha
+            };
+            if accept {
+                *x = y;
+            } else if p.jump.is_some() && is_valid_score(x.fitness) {
+                rejected.push((i, y.fitness));
             }
         }
+        if self.params.delayed_rejection != DelayedRejection::Off && !rejected.is_empty() {
+            let stage = SecondStage {
+                proposals: &proposals,
+                rejected: &rejected,
+                betas,
+                seed,
+            };
+            self.delayed_rejection(cx, chains, &stage);
+        }
+        // Parallel tempering: one adjacent pair proposes to swap states.
+        if chains.len() > 1 && !matches!(self.params.ladder, Ladder::Flat) {
+            let mut rng = stream(seed, &[g, u64::MAX, purpose::BREED]);
+            let i = rng.random_range(0..chains.len() - 1);
+            let (a, b) = (&chains[i], &chains[i + 1]);
+            if is_valid_score(a.fitness) && is_valid_score(b.fitness) {
+                let log_alpha = (betas[i] - betas[i + 1]) * ll.difference(a.fitness, b.fitness);
+                if rng.random::<f64>().ln() < log_alpha {
+                    chains.swap(i, i + 1);
+                }
+            }
+        }
+        if let Some(factor) = self.params.annealing {
+            betas.iter_mut().for_each(|b| *b *= factor);
+        }
+        Ok(ControlFlow::Continue(()))
     }
 }

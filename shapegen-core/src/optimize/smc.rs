@@ -16,17 +16,18 @@
 /// The most genes one step may add before it ends without an emitting gene.
 pub const MAX_STEP_GENES: usize = 10_000;
 
+use std::borrow::Cow;
+use std::ops::ControlFlow;
+
 use rand::{Rng, RngExt};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::checkpoint::{Checkpoint, RunId, SavedIndividual, SavedParticle, SavedState};
+use super::checkpoint::{Checkpoint, SavedIndividual, SavedParticle, SavedState};
+use super::driver::{Context, Method, Run, drive};
+use super::evaluation::Candidate;
 use super::fitness::is_valid_score;
-use super::progress::{Candidate, Progress, evaluate};
-use super::scratch::ScratchPool;
-use super::{
-    Budget, Fitness, Individual, Observer, OptimizeError, Optimizer, RunResult, StopReason, purpose,
-};
+use super::{Fitness, Individual, OptimizeError, Optimizer, RunResult, purpose};
 use crate::genome::{Chromosome, word};
 use crate::graph::Graph;
 use crate::ops::grow_unchecked;
@@ -338,121 +339,163 @@ impl Smc {
 
 impl Optimizer for Smc {
     fn name(&self) -> &'static str {
+        Method::name(self)
+    }
+
+    fn run_from<F: Fitness>(&self, run: Run<'_, F>) -> Result<RunResult, OptimizeError> {
+        drive(self, run)
+    }
+}
+
+/// SMC's state: the particles, and the weight and pick buffers reused across generations.
+pub(crate) struct Particles {
+    particles: Vec<Particle>,
+    weights: Vec<f64>,
+    picks: Vec<usize>,
+}
+
+impl Particles {
+    fn new(particles: Vec<Particle>) -> Self {
+        Self {
+            particles,
+            weights: Vec::new(),
+            picks: Vec::new(),
+        }
+    }
+}
+
+impl Method for Smc {
+    type Params = SmcParams;
+    type State = Particles;
+
+    fn name(&self) -> &'static str {
         match self.params.order {
             SlotOrder::Program => "smc",
             SlotOrder::Random => "sosmc",
         }
     }
 
-    fn run_from<F: Fitness>(
-        &self,
-        graph: &Graph,
-        fitness: &F,
-        budget: &Budget,
-        seed: u64,
-        start: Option<&Checkpoint>,
-        observer: &mut dyn Observer,
-    ) -> Result<RunResult, OptimizeError> {
-        let id = RunId::new(graph, self.name(), &self.params, seed);
-        let mut progress = Progress::start(id, self.params.problems(), *budget, observer)?;
-        let pool = ScratchPool::new();
-        let order = self.params.order;
-        let mut particles: Vec<Particle> = match start {
-            Some(cp) => {
-                let SavedState::Particles { particles } = progress.resume(cp)? else {
-                    return Err(OptimizeError::Checkpoint(
-                        "it holds no SMC particles".into(),
-                    ));
-                };
-                if particles.len() != self.params.particles {
-                    return Err(OptimizeError::Checkpoint(format!(
-                        "it holds {} particles, not {}",
-                        particles.len(),
-                        self.params.particles
-                    )));
-                }
-                particles
-                    .iter()
-                    .map(|p| Particle::restore(graph, p))
-                    .collect::<Result<_, _>>()?
-            }
-            None => {
-                let mut particles: Vec<Particle> = (0..self.params.particles as u64)
-                    .into_par_iter()
-                    .map(|i| Particle::new(graph, &mut stream(seed, &[0, i, purpose::INIT])))
-                    .collect();
-                // Score the starting models (root genes) so incremental weights start from them.
-                let roots = particles
-                    .iter()
-                    .map(|p| Candidate::new(p.chromosome.clone()))
-                    .collect();
-                let (evaluated, fresh) = evaluate(fitness, roots, &pool, None);
-                progress.evaluations += fresh;
-                for (p, e) in particles.iter_mut().zip(&evaluated) {
-                    p.fitness = e.fitness;
-                }
-                particles
-            }
-        };
-        let (mut weights, mut picks) = (Vec::new(), Vec::new());
-        let min_len = graph.limits().min_len as usize;
-        loop {
-            let stop = if progress.take_resumed() {
-                // This generation was reported before the checkpoint.
-                progress.budget_reached()
-            } else {
-                progress.generation += 1;
-                let g = progress.generation;
-                // Step every unfinished particle; evaluate the ones that changed.
-                let changed: Vec<bool> = particles
-                    .par_iter_mut()
-                    .enumerate()
-                    .map(|(i, p)| {
-                        !p.finished()
-                            && p.step(
-                                graph,
-                                order,
-                                &mut stream(seed, &[g, i as u64, purpose::BREED]),
-                            )
-                    })
-                    .collect();
-                let candidates: Vec<Candidate> = particles
-                    .iter()
-                    .zip(&changed)
-                    .map(|(p, &c)| Candidate {
-                        chromosome: p.chromosome.clone(),
-                        fitness: (!c && p.fitness.is_finite()).then_some(p.fitness),
-                    })
-                    .collect();
-                let (evaluated, fresh) = evaluate(fitness, candidates, &pool, None);
-                progress.evaluations += fresh;
-                for (p, e) in particles.iter_mut().zip(&evaluated) {
-                    p.previous = p.fitness;
-                    p.fitness = e.fitness;
-                }
-                let save = || SavedState::Particles {
-                    particles: particles.iter().map(|p| p.save(graph)).collect(),
-                };
-                progress.generation_done(&report(evaluated, min_len), &save)
-            };
-            if let Some(stop) = stop {
-                return Ok(progress.finish(stop, report_particles(&particles, min_len)));
-            }
-            if particles.iter().all(Particle::finished) {
-                return Ok(
-                    progress.finish(StopReason::Exhausted, report_particles(&particles, min_len))
-                );
-            }
-            let g = progress.generation;
-            self.weights(&particles, &mut weights);
-            resample(
-                &weights,
-                self.params.resampling,
-                &mut stream(seed, &[g, u64::MAX, purpose::BREED]),
-                &mut picks,
-            );
-            particles = picks.iter().map(|&k| particles[k].clone()).collect();
+    fn params(&self) -> &SmcParams {
+        &self.params
+    }
+
+    fn problems(&self) -> Vec<String> {
+        self.params.problems()
+    }
+
+    fn init<F: Fitness>(&self, cx: &mut Context<'_, '_, F>) -> Result<Particles, OptimizeError> {
+        let (graph, seed) = (cx.graph, cx.seed);
+        let mut particles: Vec<Particle> = (0..self.params.particles as u64)
+            .into_par_iter()
+            .map(|i| Particle::new(graph, &mut stream(seed, &[0, i, purpose::INIT])))
+            .collect();
+        // Score the starting models (root genes) so incremental weights start from them.
+        let roots = particles
+            .iter()
+            .map(|p| Candidate::new(p.chromosome.clone()))
+            .collect();
+        for (p, e) in particles.iter_mut().zip(cx.evaluate(roots)) {
+            p.fitness = e.fitness;
         }
+        Ok(Particles::new(particles))
+    }
+
+    fn restore(&self, graph: &Graph, checkpoint: &Checkpoint) -> Result<Particles, OptimizeError> {
+        let SavedState::Particles { particles } = &checkpoint.state else {
+            return Err(OptimizeError::Checkpoint(
+                "it holds no SMC particles".into(),
+            ));
+        };
+        if particles.len() != self.params.particles {
+            return Err(OptimizeError::Checkpoint(format!(
+                "it holds {} particles, not {}",
+                particles.len(),
+                self.params.particles
+            )));
+        }
+        let particles = particles
+            .iter()
+            .map(|p| Particle::restore(graph, p))
+            .collect::<Result<_, _>>()?;
+        Ok(Particles::new(particles))
+    }
+
+    fn save(&self, graph: &Graph, state: &Particles) -> SavedState {
+        SavedState::Particles {
+            particles: state.particles.iter().map(|p| p.save(graph)).collect(),
+        }
+    }
+
+    fn report<'s>(&self, graph: &Graph, state: &'s Particles) -> Cow<'s, [Individual]> {
+        Cow::Owned(report_particles(
+            &state.particles,
+            graph.limits().min_len as usize,
+        ))
+    }
+
+    /// Generation 0 holds only root genes; the first reported generation is the first step.
+    fn reports_initial(&self) -> bool {
+        false
+    }
+
+    fn exhausted(&self, state: &Particles) -> bool {
+        state.particles.iter().all(Particle::finished)
+    }
+
+    fn final_population(&self, graph: &Graph, state: Particles) -> Vec<Individual> {
+        report_particles(&state.particles, graph.limits().min_len as usize)
+    }
+
+    fn step<F: Fitness>(
+        &self,
+        cx: &mut Context<'_, '_, F>,
+        state: &mut Particles,
+    ) -> Result<ControlFlow<Vec<Individual>>, OptimizeError> {
+        let (graph, seed, g) = (cx.graph, cx.seed, cx.generation());
+        let Particles {
+            particles,
+            weights,
+            picks,
+        } = state;
+        if g > 1 {
+            // Resample after the previous generation, from its own stream.
+            self.weights(particles, weights);
+            resample(
+                weights,
+                self.params.resampling,
+                &mut stream(seed, &[g - 1, u64::MAX, purpose::BREED]),
+                picks,
+            );
+            *particles = picks.iter().map(|&k| particles[k].clone()).collect();
+        }
+        // Step every unfinished particle; evaluate the ones that changed.
+        let order = self.params.order;
+        let changed: Vec<bool> = particles
+            .par_iter_mut()
+            .enumerate()
+            .map(|(i, p)| {
+                !p.finished()
+                    && p.step(
+                        graph,
+                        order,
+                        &mut stream(seed, &[g, i as u64, purpose::BREED]),
+                    )
+            })
+            .collect();
+        let candidates: Vec<Candidate> = particles
+            .iter()
+            .zip(&changed)
+            .map(|(p, &c)| Candidate {
+                chromosome: p.chromosome.clone(),
+                fitness: (!c && p.fitness.is_finite()).then_some(p.fitness),
+            })
+            .collect();
+        // Not interrupted: particles and fitness stay in step.
+        for (p, e) in particles.iter_mut().zip(cx.evaluate(candidates)) {
+            p.previous = p.fitness;
+            p.fitness = e.fitness;
+        }
+        Ok(ControlFlow::Continue(()))
     }
 }
 

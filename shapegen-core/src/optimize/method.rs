@@ -1,0 +1,36 @@
+//! [`MethodParams`]: any of the methods, chosen at run time.
+
+use super::{
+    Fitness, Ga, GaParams, OptimizeError, Optimizer, Rjmcmc, RjmcmcParams, Run, RunResult, Smc,
+    SmcParams,
+};
+
+/// The parameters of one of the paper's methods, chosen at run time (an
+/// experiment file's `method = "..."`); runs as that method.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MethodParams {
+    /// GA parameters.
+    Ga(GaParams),
+    /// SMC or SOSMC parameters (the slot order tells which).
+    Smc(SmcParams),
+    /// RJMCMC parameters.
+    Rjmcmc(RjmcmcParams),
+}
+
+impl Optimizer for MethodParams {
+    fn name(&self) -> &'static str {
+        match *self {
+            Self::Ga(p) => Ga::new(p).name(),
+            Self::Smc(p) => Smc::new(p).name(),
+            Self::Rjmcmc(p) => Rjmcmc::new(p).name(),
+        }
+    }
+
+    fn run_from<F: Fitness>(&self, run: Run<'_, F>) -> Result<RunResult, OptimizeError> {
+        match *self {
+            Self::Ga(p) => Ga::new(p).run_from(run),
+            Self::Smc(p) => Smc::new(p).run_from(run),
+            Self::Rjmcmc(p) => Rjmcmc::new(p).run_from(run),
+        }
+    }
+}
