@@ -6,7 +6,10 @@
 use std::ops::ControlFlow;
 
 use shapegen_core::demo::{BlocksTarget, blocks_graph};
-use shapegen_core::optimize::{Checkpoint, Rjmcmc, RjmcmcParams, Run, SavedState, Smc, SmcParams};
+use shapegen_core::optimize::{
+    Checkpoint, IslandGa, IslandParams, Rjmcmc, RjmcmcParams, Run, SavedState, Smc, SmcParams,
+    Topology,
+};
 use shapegen_core::prelude::*;
 
 const TOTAL: u64 = 14;
@@ -89,6 +92,22 @@ fn every_optimizer_resumes_bit_identically() {
         check(&Smc::new(SmcParams::paper_sosmc(60)), seed);
         check(&Rjmcmc::new(RjmcmcParams::paper(20, init)), seed);
         check(&RandomSearch { batch: 30, init }, seed);
+        let ga = GaParams {
+            population: 12,
+            elites: 3,
+            init,
+            ..GaParams::paper_spaceship()
+        };
+        for topology in [Topology::Ring, Topology::Random] {
+            let params = IslandParams {
+                ga,
+                islands: 3,
+                interval: 2,
+                migrants: 2,
+                topology,
+            };
+            check(&IslandGa::new(params), seed);
+        }
     }
 }
 

@@ -100,6 +100,19 @@ fn rjmcmc_stops_mid_generation_with_the_last_complete_one() {
 }
 
 #[test]
+fn the_island_ga_stops_mid_generation_with_the_last_complete_one() {
+    let islands = shapegen_core::optimize::IslandGa::new(
+        shapegen_core::optimize::IslandParams::split(GaParams {
+            population: 40,
+            elites: 8,
+            init: InitLength::Around { l0: 12 },
+            ..GaParams::default()
+        }),
+    );
+    check(&islands, 150);
+}
+
+#[test]
 fn without_a_flag_nothing_changes() {
     // NoObserver has no flag: the run spends its whole budget.
     let graph = blocks_graph();

@@ -14,6 +14,8 @@ mod ga;
 mod genome_props;
 /// An interrupt flag stops a run mid-generation at the last complete one.
 mod interrupt;
+/// The island GA: valid, deterministic, beats random search.
+mod islands;
 /// Grow's and cut's choice frequencies (chi-square).
 mod operator_stats;
 /// RJMCMC samples the posterior; chains stay valid.

@@ -91,6 +91,11 @@ pub enum SavedState {
         /// `β` of each chain, as IEEE-754 bits.
         betas_bits: Vec<u64>,
     },
+    /// The island GA's populations, each best first.
+    Islands {
+        /// One population per island, in island order.
+        islands: Vec<Vec<SavedIndividual>>,
+    },
 }
 
 impl SavedIndividual {

@@ -19,6 +19,15 @@ use crate::ops::{
 };
 use crate::rng::{ShapeRng, stream};
 
+/// The stream `(seed, base..., island)`; a lone GA (`island = None`) draws
+/// from `(seed, base...)`, the streams it always had.
+fn island_stream(seed: u64, base: [u64; 3], island: Option<u64>) -> ShapeRng {
+    match island {
+        None => stream(seed, &base),
+        Some(k) => stream(seed, &[base[0], base[1], base[2], k]),
+    }
+}
+
 /// Parameters of the [`Ga`].
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct GaParams {
@@ -154,15 +163,18 @@ impl Ga {
         Self { params }
     }
 
-    fn initial_population(
+    /// The random initial population; individual `i` draws from the stream
+    /// `(seed, 0, i, INIT[, island])`.
+    pub(crate) fn initial_population(
         &self,
         graph: &Graph,
         seed: u64,
+        island: Option<u64>,
     ) -> Result<Vec<Candidate>, OptimizeError> {
         (0..self.params.population as u64)
             .into_par_iter()
             .map(|i| {
-                let mut rng = stream(seed, &[0, i, purpose::INIT]);
+                let mut rng = island_stream(seed, [0, i, purpose::INIT], island);
                 Ok(Candidate::new(random_individual(
                     graph,
                     &self.params.init,
@@ -170,6 +182,39 @@ impl Ga {
                 )?))
             })
             .collect()
+    }
+
+    /// The candidates of generation `generation` bred from `state` (sorted
+    /// best first): the elites, then pairs of children, pair `i` drawn from
+    /// the stream `(seed, generation, i, BREED[, island])`.
+    pub(crate) fn next_generation(
+        &self,
+        graph: &Graph,
+        state: &mut GaState,
+        seed: u64,
+        generation: u64,
+        island: Option<u64>,
+    ) -> Vec<Candidate> {
+        let GaState {
+            population,
+            wheel,
+            scores,
+        } = state;
+        let mut next = self.elites(graph, population);
+        scores.clear();
+        scores.extend(population.iter().map(|i| i.fitness));
+        wheel.rebuild(scores, self.params.roulette);
+        let missing = self.params.population - next.len();
+        let children: Vec<Candidate> = (0..missing.div_ceil(2) as u64)
+            .into_par_iter()
+            .flat_map_iter(|i| {
+                let mut rng = island_stream(seed, [generation, i, purpose::BREED], island);
+                self.breed_pair(graph, population, wheel, &mut rng)
+            })
+            .collect();
+        // With one place left, only the pair's first child is kept.
+        next.extend(children.into_iter().take(missing));
+        next
     }
 
     /// The elites: the `E` best valid individuals, each structure once if `elite_dedup`.
@@ -232,7 +277,7 @@ impl Optimizer for Ga {
 
 /// The GA's state: the population, and the roulette and score buffers reused across generations.
 pub(crate) struct GaState {
-    population: Vec<Individual>,
+    pub population: Vec<Individual>,
     wheel: Roulette,
     scores: Vec<f64>,
 }
@@ -240,13 +285,19 @@ pub(crate) struct GaState {
 impl GaState {
     /// The state of `population`, sorted best first (stable; failed
     /// evaluations last) as selection and the elites expect.
-    fn new(mut population: Vec<Individual>) -> Self {
+    pub fn new(mut population: Vec<Individual>) -> Self {
         population.sort_by(|a, b| rank_order(a.fitness, b.fitness));
         Self {
             scores: Vec::with_capacity(population.len()),
             population,
             wheel: Roulette::default(),
         }
+    }
+
+    /// Makes `population` the current one, sorted best first.
+    pub fn replace(&mut self, mut population: Vec<Individual>) {
+        population.sort_by(|a, b| rank_order(a.fitness, b.fitness));
+        self.population = population;
     }
 }
 
@@ -270,7 +321,7 @@ impl Method for Ga {
         // Stopped by Ctrl-C or the clock like any generation: a generation 0
         // slower than the budget ends at the budget, with the models
         // evaluated by then (the rest are NaN).
-        let initial = self.initial_population(cx.graph, cx.seed)?;
+        let initial = self.initial_population(cx.graph, cx.seed, None)?;
         Ok(GaState::new(cx.evaluate_within_budget(initial)))
     }
 
@@ -317,33 +368,13 @@ impl Method for Ga {
         cx: &mut Context<'_, '_, F>,
         state: &mut GaState,
     ) -> Result<ControlFlow<Vec<Individual>>, OptimizeError> {
-        let (graph, seed, generation) = (cx.graph, cx.seed, cx.generation());
-        let GaState {
-            population,
-            wheel,
-            scores,
-        } = state;
-        let mut next = self.elites(graph, population);
-        scores.clear();
-        scores.extend(population.iter().map(|i| i.fitness));
-        wheel.rebuild(scores, self.params.roulette);
-        let missing = self.params.population - next.len();
-        let children: Vec<Candidate> = (0..missing.div_ceil(2) as u64)
-            .into_par_iter()
-            .flat_map_iter(|i| {
-                let mut rng = stream(seed, &[generation, i, purpose::BREED]);
-                self.breed_pair(graph, population, wheel, &mut rng)
-            })
-            .collect();
-        // With one place left, only the pair's first child is kept.
-        next.extend(children.into_iter().take(missing));
+        let next = self.next_generation(cx.graph, state, cx.seed, cx.generation(), None);
         match cx.evaluate_interruptible(next) {
-            Some(mut evaluated) => {
-                evaluated.sort_by(|a, b| rank_order(a.fitness, b.fitness));
-                *population = evaluated;
+            Some(evaluated) => {
+                state.replace(evaluated);
                 Ok(ControlFlow::Continue(()))
             }
-            None => Ok(ControlFlow::Break(std::mem::take(population))),
+            None => Ok(ControlFlow::Break(std::mem::take(&mut state.population))),
         }
     }
 }

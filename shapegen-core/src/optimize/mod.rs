@@ -16,6 +16,7 @@ mod driver;
 mod evaluation;
 mod fitness;
 mod ga;
+mod island;
 mod method;
 mod observer;
 mod progress;
@@ -34,6 +35,7 @@ pub use driver::Run;
 pub use evaluation::{Pooled, ScratchPool, evaluate_all};
 pub use fitness::{Fitness, FnFitness, is_valid_score};
 pub use ga::{Ga, GaParams};
+pub use island::{IslandGa, IslandParams, Topology};
 pub use method::MethodParams;
 pub use observer::{GenerationStats, Interruptible, NoObserver, Observer};
 pub use random::RandomSearch;
@@ -152,4 +154,5 @@ pub trait Optimizer {
 pub(crate) mod purpose {
     pub const INIT: u64 = 1;
     pub const BREED: u64 = 2;
+    pub const MIGRATE: u64 = 3;
 }

@@ -1,0 +1,134 @@
+//! The island GA: valid on random graphs, deterministic whatever the thread
+//! count, reaching the blocks optimum and beating random search.
+
+use proptest::prelude::*;
+use shapegen_core::demo::{BlocksTarget, blocks_graph};
+use shapegen_core::optimize::{IslandGa, IslandParams, Topology};
+use shapegen_core::prelude::*;
+
+fn islands(topology: Topology) -> IslandGa {
+    IslandGa::new(IslandParams {
+        ga: GaParams {
+            population: 25,
+            elites: 5,
+            init: InitLength::Around { l0: 20 },
+            ..GaParams::paper_spaceship()
+        },
+        islands: 4,
+        interval: 5,
+        migrants: 2,
+        topology,
+    })
+}
+
+fn pool(threads: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+}
+
+#[test]
+fn islands_reach_the_optimum_and_beat_random_search() {
+    let graph = blocks_graph();
+    let fitness = BlocksTarget {
+        graph: &graph,
+        blocks: 20,
+    };
+    for (seed, topology) in [
+        (1, Topology::Ring),
+        (2, Topology::Random),
+        (3, Topology::Ring),
+    ] {
+        let r = islands(topology)
+            .run(
+                &graph,
+                &fitness,
+                &Budget::evaluations(25_000),
+                seed,
+                &mut NoObserver,
+            )
+            .unwrap();
+        let random = RandomSearch {
+            batch: 100,
+            init: InitLength::Around { l0: 20 },
+        }
+        .run(
+            &graph,
+            &fitness,
+            &Budget::evaluations(r.evaluations),
+            seed,
+            &mut NoObserver,
+        )
+        .unwrap();
+        assert!(
+            r.best_fitness > 0.95,
+            "seed {seed}: islands reached only {}",
+            r.best_fitness
+        );
+        assert!(
+            r.best_fitness > random.best_fitness + 0.3,
+            "seed {seed}: islands {} vs random search {}",
+            r.best_fitness,
+            random.best_fitness
+        );
+        // The final population is every island's, best first.
+        assert_eq!(r.population.len(), 100);
+        assert_eq!(r.population[0].fitness.to_bits(), r.best_fitness.to_bits());
+        r.best.validate(&graph).unwrap();
+    }
+}
+
+#[test]
+fn same_seed_same_result_whatever_the_thread_count() {
+    let graph = blocks_graph();
+    let fitness = BlocksTarget {
+        graph: &graph,
+        blocks: 30,
+    };
+    for topology in [Topology::Ring, Topology::Random] {
+        let run = |threads, seed| {
+            pool(threads).install(|| {
+                islands(topology)
+                    .run(
+                        &graph,
+                        &fitness,
+                        &Budget::generations(30),
+                        seed,
+                        &mut NoObserver,
+                    )
+                    .unwrap()
+            })
+        };
+        let one = run(1, 7);
+        for threads in [2, 4] {
+            let many = run(threads, 7);
+            assert_eq!(one.best_fitness.to_bits(), many.best_fitness.to_bits());
+            assert_eq!(one.evaluations, many.evaluations);
+            assert_eq!(one.population, many.population);
+        }
+        assert_ne!(one.population, run(1, 8).population);
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 32, ..ProptestConfig::default() })]
+
+    /// Every individual of island runs on random graphs is a valid chromosome.
+    #[test]
+    fn individuals_are_valid_chromosomes(graph in crate::common::graph(), seed in any::<u64>(), random in any::<bool>()) {
+        let f = FnFitness(|c: &Chromosome| -(c.len() as f64 - 10.0).abs());
+        let params = IslandParams {
+            ga: GaParams { population: 8, elites: 2, init: InitLength::Between { lo: 1, hi: 30 }, ..GaParams::paper_spaceship() },
+            islands: 3,
+            interval: 2,
+            migrants: 1,
+            topology: if random { Topology::Random } else { Topology::Ring },
+        };
+        let r = IslandGa::new(params).run(&graph, &f, &Budget::generations(8), seed, &mut NoObserver).unwrap();
+        prop_assert_eq!(r.population.len(), 24);
+        for i in &r.population {
+            i.chromosome.validate(&graph).map_err(|e| TestCaseError::fail(e.to_string()))?;
+        }
+    }
+}
