@@ -120,6 +120,12 @@ impl SavedRun {
                 }
                 Vec::new()
             }
+            SavedState::Islands { islands } => {
+                if islands.iter().all(Vec::is_empty) {
+                    return Err("the checkpoint's islands are empty".into());
+                }
+                islands.iter().flatten().take(VERIFIED).collect()
+            }
         };
         for (what, s) in std::iter::once(("best model", &cp.best))
             .chain(stored.into_iter().map(|s| ("stored model", s)))

@@ -46,6 +46,7 @@ pub(super) struct ExperimentFile {
     pub smc: Option<Spanned<SmcFile>>,
     pub sosmc: Option<Spanned<SmcFile>>,
     pub rjmcmc: Option<Spanned<RjmcmcFile>>,
+    pub islands: Option<Spanned<IslandsFile>>,
 }
 
 /// `[limits]`.
@@ -261,6 +262,25 @@ pub(super) struct RjmcmcFile {
     pub annealing: Option<f64>,
     pub delayed_rejection: Option<DelayedRejectionFile>,
     pub budget: Option<Spanned<BudgetFile>>,
+}
+
+/// `[islands]`: the `[ga]` settings split across islands.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct IslandsFile {
+    pub islands: Option<usize>,
+    pub interval: Option<u64>,
+    pub migrants: Option<usize>,
+    pub topology: Option<TopologyFile>,
+    pub budget: Option<Spanned<BudgetFile>>,
+}
+
+/// `islands.topology`.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum TopologyFile {
+    Ring,
+    Random,
 }
 
 /// `rjmcmc.delayed_rejection`.

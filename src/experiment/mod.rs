@@ -142,13 +142,21 @@ pub enum Method {
     Sosmc,
     /// Reversible-jump MCMC with parallel tempering.
     Rjmcmc,
+    /// The island GA (beyond the paper): the experiment's GA split into islands.
+    Islands,
 }
 
 impl Method {
-    /// All methods, in the paper's order.
-    pub const ALL: [Method; 4] = [Method::Ga, Method::Smc, Method::Sosmc, Method::Rjmcmc];
+    /// All methods: the paper's, in its order, then shapegen's.
+    pub const ALL: [Method; 5] = [
+        Method::Ga,
+        Method::Smc,
+        Method::Sosmc,
+        Method::Rjmcmc,
+        Method::Islands,
+    ];
 
-    /// The method's name (`ga`, `smc`, `sosmc`, `rjmcmc`).
+    /// The method's name (`ga`, `smc`, `sosmc`, `rjmcmc`, `islands`).
     #[must_use]
     pub const fn name(self) -> &'static str {
         match self {
@@ -156,6 +164,7 @@ impl Method {
             Self::Smc => "smc",
             Self::Sosmc => "sosmc",
             Self::Rjmcmc => "rjmcmc",
+            Self::Islands => "islands",
         }
     }
 }

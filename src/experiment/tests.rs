@@ -128,7 +128,7 @@ fn methods_parse_by_name() {
     assert!("annealing".parse::<Method>().is_err());
     assert_eq!(
         Method::ALL.map(Method::name),
-        ["ga", "smc", "sosmc", "rjmcmc"]
+        ["ga", "smc", "sosmc", "rjmcmc", "islands"]
     );
 }
 
@@ -453,4 +453,34 @@ fn image_targets_take_a_mask_and_either_camera() {
     let (_, key, _) = invalid(&file("mask = \"dark\"\ncamera = { eye = [0.0, 3.0, 9.0] }"));
     assert_eq!(key, "image.targets[0].camera");
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn the_island_ga_splits_the_experiments_ga() {
+    // Without a table: the GA's population in 4 islands, with the GA's budget.
+    let ga = "[ga]\npopulation = 120\nelites = 20\ninit_length = 30\nmutation_rate = 0.3\nsplit = { grow = 1.0, cut = 1.0, alter = 1.0 }\nbudget = { generations = 7 }\n";
+    let e = load(&format!("{MINIMAL}{ga}")).unwrap();
+    let MethodParams::Islands(p) = e.method(Method::Islands).params else {
+        panic!("islands run the island GA");
+    };
+    assert_eq!((p.islands, p.ga.population, p.ga.elites), (4, 30, 5));
+    assert_eq!(e.budget(Method::Islands), e.budget(Method::Ga));
+    // A table sets the islands and the migration, and may set its own budget.
+    let table = "[islands]\nislands = 6\ninterval = 3\nmigrants = 1\ntopology = \"random\"\nbudget = { seconds = 2.0 }\n";
+    let e = load(&format!("{MINIMAL}{ga}{table}")).unwrap();
+    let MethodParams::Islands(p) = e.method(Method::Islands).params else {
+        panic!("islands run the island GA");
+    };
+    assert_eq!(
+        (p.islands, p.ga.population, p.interval, p.migrants),
+        (6, 20, 3, 1)
+    );
+    assert_eq!(p.topology, crate::optimize::Topology::Random);
+    assert_ne!(e.budget(Method::Islands), e.budget(Method::Ga));
+    // Too many islands for the population, and a misspelled key, are errors.
+    let (_, key, msg) = invalid(&format!("{MINIMAL}{ga}[islands]\nislands = 100\n"));
+    assert_eq!(key, "islands");
+    assert!(msg.contains("fewer than 2"), "{msg}");
+    let (_, _, msg) = invalid(&format!("{MINIMAL}{ga}[islands]\nmigrant = 1\n"));
+    assert!(msg.contains("migrant"), "{msg}");
 }

@@ -46,7 +46,14 @@ impl IslandParams {
     /// alike, at least 1), exchanging their 2 best every 10 generations on a ring.
     #[must_use]
     pub fn split(ga: GaParams) -> Self {
-        let islands = 4;
+        Self::split_into(ga, 4)
+    }
+
+    /// [`split`](Self::split) into `islands` islands (at least 1) of
+    /// `ga.population / islands` individuals (at least 2).
+    #[must_use]
+    pub fn split_into(ga: GaParams, islands: usize) -> Self {
+        let islands = islands.max(1);
         let population = (ga.population / islands).max(2);
         Self {
             ga: GaParams {

@@ -1,12 +1,12 @@
 //! [`MethodParams`]: any of the methods, chosen at run time.
 
 use super::{
-    Fitness, Ga, GaParams, OptimizeError, Optimizer, Rjmcmc, RjmcmcParams, Run, RunResult, Smc,
-    SmcParams,
+    Fitness, Ga, GaParams, IslandGa, IslandParams, OptimizeError, Optimizer, Rjmcmc, RjmcmcParams,
+    Run, RunResult, Smc, SmcParams,
 };
 
-/// The parameters of one of the paper's methods, chosen at run time (an
-/// experiment file's `method = "..."`); runs as that method.
+/// The parameters of one of the methods, chosen at run time (an experiment
+/// file's `method = "..."`); runs as that method.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum MethodParams {
     /// GA parameters.
@@ -15,6 +15,8 @@ pub enum MethodParams {
     Smc(SmcParams),
     /// RJMCMC parameters.
     Rjmcmc(RjmcmcParams),
+    /// Island GA parameters.
+    Islands(IslandParams),
 }
 
 impl Optimizer for MethodParams {
@@ -23,6 +25,7 @@ impl Optimizer for MethodParams {
             Self::Ga(p) => Ga::new(p).name(),
             Self::Smc(p) => Smc::new(p).name(),
             Self::Rjmcmc(p) => Rjmcmc::new(p).name(),
+            Self::Islands(p) => IslandGa::new(p).name(),
         }
     }
 
@@ -31,6 +34,7 @@ impl Optimizer for MethodParams {
             Self::Ga(p) => Ga::new(p).run_from(run),
             Self::Smc(p) => Smc::new(p).run_from(run),
             Self::Rjmcmc(p) => Rjmcmc::new(p).run_from(run),
+            Self::Islands(p) => IslandGa::new(p).run_from(run),
         }
     }
 }

@@ -1,6 +1,7 @@
-//! `[ga]`, `[smc]`, `[sosmc]`, `[rjmcmc]` and budgets. A method without a
-//! table gets the paper's spaceship presets; a key left out of a table gets
-//! the preset's value.
+//! `[ga]`, `[smc]`, `[sosmc]`, `[rjmcmc]`, `[islands]` and budgets. A
+//! method without a table gets the paper's spaceship presets; a key left out
+//! of a table gets the preset's value. The island GA is the experiment's GA
+//! split into islands, with the GA's budget unless `[islands]` gives one.
 
 use std::collections::BTreeMap;
 
@@ -9,10 +10,13 @@ use toml::Spanned;
 use super::Ctx;
 use crate::experiment::file::{
     BudgetFile, DelayedRejectionFile, EdgeMatchFile, ExperimentFile, GaFile, RjmcmcFile, SmcFile,
+    TopologyFile,
 };
 use crate::experiment::{ExperimentError, Method, MethodConfig, MethodParams};
 use crate::ops::{CrossoverConfig, EdgeMatch, InitLength, MutationSplit};
-use crate::optimize::{Budget, DelayedRejection, GaParams, RjmcmcParams, SmcParams};
+use crate::optimize::{
+    Budget, DelayedRejection, GaParams, IslandParams, RjmcmcParams, SmcParams, Topology,
+};
 
 /// The largest population, particle or chain count (each individual keeps a
 /// chromosome; 10⁶ of them is already gigabytes).
@@ -55,6 +59,7 @@ pub(super) fn from_file(
             smc(ctx, Method::Sosmc, f.sosmc.as_ref(), SmcParams::paper_sosmc)?,
         ),
         (Method::Rjmcmc, rjmcmc(ctx, f.rjmcmc.as_ref())?),
+        (Method::Islands, islands(ctx, f)?),
     ]))
 }
 
@@ -221,4 +226,48 @@ fn rjmcmc(
         problems,
         r.budget.as_ref(),
     )
+}
+
+/// The island GA: the `[ga]` population split across `islands` (default 4).
+fn islands(ctx: &Ctx<'_>, f: &ExperimentFile) -> Result<MethodConfig, ExperimentError> {
+    let ga = ga(ctx, f.ga.as_ref())?;
+    let MethodParams::Ga(ga_params) = ga.params else {
+        unreachable!("the GA's configuration holds GA parameters")
+    };
+    let preset = IslandParams::split(ga_params);
+    let Some(t) = f.islands.as_ref() else {
+        return Ok(MethodConfig {
+            params: MethodParams::Islands(preset),
+            budget: ga.budget,
+        });
+    };
+    let i = t.get_ref();
+    let count = i.islands.unwrap_or(preset.islands);
+    let mut params = IslandParams::split_into(ga_params, count);
+    params.interval = i.interval.unwrap_or(preset.interval);
+    params.migrants = i.migrants.unwrap_or(preset.migrants);
+    params.topology = match i.topology {
+        None => preset.topology,
+        Some(TopologyFile::Ring) => Topology::Ring,
+        Some(TopologyFile::Random) => Topology::Random,
+    };
+    let mut problems = params.problems();
+    if count == 0 {
+        problems.push("islands must be at least 1".into());
+    } else if ga_params.population / count < 2 {
+        problems.push(format!(
+            "{count} islands leave fewer than 2 of the GA's {} individuals per island",
+            ga_params.population
+        ));
+    }
+    let mut config = config(
+        ctx,
+        Method::Islands,
+        t,
+        MethodParams::Islands(params),
+        problems,
+        i.budget.as_ref(),
+    )?;
+    config.budget = config.budget.or(ga.budget);
+    Ok(config)
 }
