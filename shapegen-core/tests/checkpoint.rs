@@ -7,8 +7,8 @@ use std::ops::ControlFlow;
 
 use shapegen_core::demo::{BlocksTarget, blocks_graph};
 use shapegen_core::optimize::{
-    Checkpoint, IslandGa, IslandParams, Rjmcmc, RjmcmcParams, Run, SavedState, Smc, SmcParams,
-    Topology,
+    Checkpoint, Hybrid, HybridParams, IslandGa, IslandParams, Rjmcmc, RjmcmcParams, Run,
+    SavedState, Smc, SmcParams, Topology,
 };
 use shapegen_core::prelude::*;
 
@@ -107,6 +107,15 @@ fn every_optimizer_resumes_bit_identically() {
                 topology,
             };
             check(&IslandGa::new(params), seed);
+        }
+        // Switching before the checkpoint, after it, and never.
+        for patience in [2, 8, 100] {
+            let params = HybridParams {
+                ga,
+                rjmcmc: RjmcmcParams::paper(6, init),
+                patience,
+            };
+            check(&Hybrid::new(params), seed);
         }
     }
 }

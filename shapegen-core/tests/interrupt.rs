@@ -113,6 +113,24 @@ fn the_island_ga_stops_mid_generation_with_the_last_complete_one() {
 }
 
 #[test]
+fn the_hybrid_stops_mid_generation_in_either_phase() {
+    let init = InitLength::Around { l0: 12 };
+    for patience in [1, 1000] {
+        let hybrid = shapegen_core::optimize::Hybrid::new(shapegen_core::optimize::HybridParams {
+            ga: GaParams {
+                population: 40,
+                elites: 8,
+                init,
+                ..GaParams::default()
+            },
+            rjmcmc: RjmcmcParams::paper(8, init),
+            patience,
+        });
+        check(&hybrid, 150);
+    }
+}
+
+#[test]
 fn without_a_flag_nothing_changes() {
     // NoObserver has no flag: the run spends its whole budget.
     let graph = blocks_graph();

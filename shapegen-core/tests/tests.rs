@@ -12,6 +12,8 @@ mod checkpoint;
 mod ga;
 /// The packed genome and its operators over random graphs.
 mod genome_props;
+/// The hybrid (GA, then RJMCMC): switches, valid, deterministic, beats random search.
+mod hybrid;
 /// An interrupt flag stops a run mid-generation at the last complete one.
 mod interrupt;
 /// The island GA: valid, deterministic, beats random search.

@@ -101,32 +101,7 @@ impl SavedRun {
     /// individuals of the population or chains.
     fn verify_fitness(&self, experiment: &Experiment) -> Result<(), String> {
         let cp = &self.checkpoint;
-        let stored: Vec<&SavedIndividual> = match &cp.state {
-            SavedState::Population { individuals } => {
-                if individuals.is_empty() {
-                    return Err("the checkpoint's population is empty".into());
-                }
-                individuals.iter().take(VERIFIED).collect()
-            }
-            SavedState::Chains { chains, .. } => {
-                if chains.is_empty() {
-                    return Err("the checkpoint has no chains".into());
-                }
-                chains.iter().take(VERIFIED).collect()
-            }
-            SavedState::Particles { particles } => {
-                if particles.is_empty() {
-                    return Err("the checkpoint has no particles".into());
-                }
-                Vec::new()
-            }
-            SavedState::Islands { islands } => {
-                if islands.iter().all(Vec::is_empty) {
-                    return Err("the checkpoint's islands are empty".into());
-                }
-                islands.iter().flatten().take(VERIFIED).collect()
-            }
-        };
+        let stored = stored_models(&cp.state)?;
         for (what, s) in std::iter::once(("best model", &cp.best))
             .chain(stored.into_iter().map(|s| ("stored model", s)))
         {
@@ -142,4 +117,36 @@ impl SavedRun {
         }
         Ok(())
     }
+}
+
+/// The first [`VERIFIED`] models a checkpoint's state stores with their
+/// fitness (SMC particles are partial models and are not checked).
+fn stored_models(state: &SavedState) -> Result<Vec<&SavedIndividual>, String> {
+    Ok(match state {
+        SavedState::Population { individuals } => {
+            if individuals.is_empty() {
+                return Err("the checkpoint's population is empty".into());
+            }
+            individuals.iter().take(VERIFIED).collect()
+        }
+        SavedState::Chains { chains, .. } => {
+            if chains.is_empty() {
+                return Err("the checkpoint has no chains".into());
+            }
+            chains.iter().take(VERIFIED).collect()
+        }
+        SavedState::Particles { particles } => {
+            if particles.is_empty() {
+                return Err("the checkpoint has no particles".into());
+            }
+            Vec::new()
+        }
+        SavedState::Islands { islands } => {
+            if islands.iter().all(Vec::is_empty) {
+                return Err("the checkpoint's islands are empty".into());
+            }
+            islands.iter().flatten().take(VERIFIED).collect()
+        }
+        SavedState::Hybrid { state, .. } => stored_models(state)?,
+    })
 }

@@ -47,6 +47,7 @@ pub(super) struct ExperimentFile {
     pub sosmc: Option<Spanned<SmcFile>>,
     pub rjmcmc: Option<Spanned<RjmcmcFile>>,
     pub islands: Option<Spanned<IslandsFile>>,
+    pub hybrid: Option<Spanned<HybridFile>>,
 }
 
 /// `[limits]`.
@@ -272,6 +273,14 @@ pub(super) struct IslandsFile {
     pub interval: Option<u64>,
     pub migrants: Option<usize>,
     pub topology: Option<TopologyFile>,
+    pub budget: Option<Spanned<BudgetFile>>,
+}
+
+/// `[hybrid]`: the `[ga]` and `[rjmcmc]` settings, and when to switch.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct HybridFile {
+    pub patience: Option<u64>,
     pub budget: Option<Spanned<BudgetFile>>,
 }
 

@@ -144,19 +144,22 @@ pub enum Method {
     Rjmcmc,
     /// The island GA (beyond the paper): the experiment's GA split into islands.
     Islands,
+    /// The GA, then RJMCMC from its best models once it stalls (beyond the paper).
+    Hybrid,
 }
 
 impl Method {
     /// All methods: the paper's, in its order, then shapegen's.
-    pub const ALL: [Method; 5] = [
+    pub const ALL: [Method; 6] = [
         Method::Ga,
         Method::Smc,
         Method::Sosmc,
         Method::Rjmcmc,
         Method::Islands,
+        Method::Hybrid,
     ];
 
-    /// The method's name (`ga`, `smc`, `sosmc`, `rjmcmc`, `islands`).
+    /// The method's name (`ga`, `smc`, `sosmc`, `rjmcmc`, `islands`, `hybrid`).
     #[must_use]
     pub const fn name(self) -> &'static str {
         match self {
@@ -165,6 +168,7 @@ impl Method {
             Self::Sosmc => "sosmc",
             Self::Rjmcmc => "rjmcmc",
             Self::Islands => "islands",
+            Self::Hybrid => "hybrid",
         }
     }
 }

@@ -128,7 +128,7 @@ fn methods_parse_by_name() {
     assert!("annealing".parse::<Method>().is_err());
     assert_eq!(
         Method::ALL.map(Method::name),
-        ["ga", "smc", "sosmc", "rjmcmc", "islands"]
+        ["ga", "smc", "sosmc", "rjmcmc", "islands", "hybrid"]
     );
 }
 
@@ -483,4 +483,23 @@ fn the_island_ga_splits_the_experiments_ga() {
     assert!(msg.contains("fewer than 2"), "{msg}");
     let (_, _, msg) = invalid(&format!("{MINIMAL}{ga}[islands]\nmigrant = 1\n"));
     assert!(msg.contains("migrant"), "{msg}");
+}
+
+#[test]
+fn the_hybrid_runs_the_experiments_ga_then_its_rjmcmc() {
+    let ga = "[ga]\npopulation = 120\nelites = 20\ninit_length = 30\nmutation_rate = 0.3\nsplit = { grow = 1.0, cut = 1.0, alter = 1.0 }\nbudget = { generations = 7 }\n[rjmcmc]\nchains = 9\ninit_length = 10\n";
+    let e = load(&format!("{MINIMAL}{ga}")).unwrap();
+    let MethodParams::Hybrid(p) = e.method(Method::Hybrid).params else {
+        panic!("hybrid runs the hybrid");
+    };
+    assert_eq!(
+        (p.ga.population, p.rjmcmc.chains, p.patience),
+        (120, 9, 100)
+    );
+    assert_eq!(e.budget(Method::Hybrid), e.budget(Method::Ga));
+    let e = load(&format!("{MINIMAL}{ga}[hybrid]\npatience = 7\n")).unwrap();
+    assert!(matches!(e.method(Method::Hybrid).params, MethodParams::Hybrid(p) if p.patience == 7));
+    let (_, key, msg) = invalid(&format!("{MINIMAL}{ga}[hybrid]\npatience = 0\n"));
+    assert_eq!(key, "hybrid");
+    assert!(msg.contains("patience"), "{msg}");
 }

@@ -96,6 +96,16 @@ pub enum SavedState {
         /// One population per island, in island order.
         islands: Vec<Vec<SavedIndividual>>,
     },
+    /// The hybrid: the current phase's state (a GA population or RJMCMC
+    /// chains) and, in the GA phase, its best and how long it has stalled.
+    Hybrid {
+        /// The GA phase's best fitness, as IEEE-754 bits.
+        best_bits: u64,
+        /// Generations since the GA's best last improved.
+        stalled: u64,
+        /// The phase's own state.
+        state: Box<SavedState>,
+    },
 }
 
 impl SavedIndividual {

@@ -301,6 +301,44 @@ impl GaState {
     }
 }
 
+impl Ga {
+    /// The state saved in `saved`.
+    pub(crate) fn restore_state(
+        &self,
+        graph: &Graph,
+        saved: &SavedState,
+    ) -> Result<GaState, OptimizeError> {
+        let SavedState::Population { individuals } = saved else {
+            return Err(OptimizeError::Checkpoint(
+                "it holds no GA population".into(),
+            ));
+        };
+        if individuals.len() != self.params.population {
+            return Err(OptimizeError::Checkpoint(format!(
+                "it holds {} individuals for a population of {}",
+                individuals.len(),
+                self.params.population
+            )));
+        }
+        let population = individuals
+            .iter()
+            .map(|i| i.restore(graph))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(GaState::new(population))
+    }
+
+    /// The state a checkpoint saves.
+    pub(crate) fn save_state(&self, graph: &Graph, state: &GaState) -> SavedState {
+        SavedState::Population {
+            individuals: state
+                .population
+                .iter()
+                .map(|i| SavedIndividual::save(graph, i))
+                .collect(),
+        }
+    }
+}
+
 impl Method for Ga {
     type Params = GaParams;
     type State = GaState;
@@ -326,33 +364,11 @@ impl Method for Ga {
     }
 
     fn restore(&self, graph: &Graph, checkpoint: &Checkpoint) -> Result<GaState, OptimizeError> {
-        let SavedState::Population { individuals } = &checkpoint.state else {
-            return Err(OptimizeError::Checkpoint(
-                "it holds no GA population".into(),
-            ));
-        };
-        if individuals.len() != self.params.population {
-            return Err(OptimizeError::Checkpoint(format!(
-                "it holds {} individuals for a population of {}",
-                individuals.len(),
-                self.params.population
-            )));
-        }
-        let population = individuals
-            .iter()
-            .map(|i| i.restore(graph))
-            .collect::<Result<Vec<_>, _>>()?;
-        Ok(GaState::new(population))
+        self.restore_state(graph, &checkpoint.state)
     }
 
     fn save(&self, graph: &Graph, state: &GaState) -> SavedState {
-        SavedState::Population {
-            individuals: state
-                .population
-                .iter()
-                .map(|i| SavedIndividual::save(graph, i))
-                .collect(),
-        }
+        self.save_state(graph, state)
     }
 
     fn report<'s>(&self, _graph: &Graph, state: &'s GaState) -> Cow<'s, [Individual]> {

@@ -1,8 +1,8 @@
 //! [`MethodParams`]: any of the methods, chosen at run time.
 
 use super::{
-    Fitness, Ga, GaParams, IslandGa, IslandParams, OptimizeError, Optimizer, Rjmcmc, RjmcmcParams,
-    Run, RunResult, Smc, SmcParams,
+    Fitness, Ga, GaParams, Hybrid, HybridParams, IslandGa, IslandParams, OptimizeError, Optimizer,
+    Rjmcmc, RjmcmcParams, Run, RunResult, Smc, SmcParams,
 };
 
 /// The parameters of one of the methods, chosen at run time (an experiment
@@ -17,6 +17,8 @@ pub enum MethodParams {
     Rjmcmc(RjmcmcParams),
     /// Island GA parameters.
     Islands(IslandParams),
+    /// GA-then-RJMCMC parameters.
+    Hybrid(HybridParams),
 }
 
 impl Optimizer for MethodParams {
@@ -26,6 +28,7 @@ impl Optimizer for MethodParams {
             Self::Smc(p) => Smc::new(p).name(),
             Self::Rjmcmc(p) => Rjmcmc::new(p).name(),
             Self::Islands(p) => IslandGa::new(p).name(),
+            Self::Hybrid(p) => Hybrid::new(p).name(),
         }
     }
 
@@ -35,6 +38,7 @@ impl Optimizer for MethodParams {
             Self::Smc(p) => Smc::new(p).run_from(run),
             Self::Rjmcmc(p) => Rjmcmc::new(p).run_from(run),
             Self::Islands(p) => IslandGa::new(p).run_from(run),
+            Self::Hybrid(p) => Hybrid::new(p).run_from(run),
         }
     }
 }

@@ -71,7 +71,7 @@ impl Ladder {
         }
     }
 
-    fn betas(&self, chains: usize) -> Vec<f64> {
+    pub(crate) fn betas(&self, chains: usize) -> Vec<f64> {
         (0..chains)
             .map(|i| match *self {
                 Self::Flat => 1.0,
@@ -514,8 +514,49 @@ impl Optimizer for Rjmcmc {
 
 /// The chains (one per temperature) and their inverse temperatures.
 pub(crate) struct Chains {
-    chains: Vec<Individual>,
-    betas: Vec<f64>,
+    pub chains: Vec<Individual>,
+    pub betas: Vec<f64>,
+}
+
+impl Rjmcmc {
+    /// The state saved in `saved`.
+    pub(crate) fn restore_state(
+        &self,
+        graph: &Graph,
+        saved: &SavedState,
+    ) -> Result<Chains, OptimizeError> {
+        let SavedState::Chains { chains, betas_bits } = saved else {
+            return Err(OptimizeError::Checkpoint(
+                "it holds no RJMCMC chains".into(),
+            ));
+        };
+        if chains.len() != self.params.chains || betas_bits.len() != chains.len() {
+            return Err(OptimizeError::Checkpoint(format!(
+                "it holds {} chains, not {}",
+                chains.len(),
+                self.params.chains
+            )));
+        }
+        Ok(Chains {
+            chains: chains
+                .iter()
+                .map(|c| c.restore(graph))
+                .collect::<Result<Vec<_>, _>>()?,
+            betas: betas_bits.iter().map(|&b| f64::from_bits(b)).collect(),
+        })
+    }
+
+    /// The state a checkpoint saves.
+    pub(crate) fn save_state(&self, graph: &Graph, state: &Chains) -> SavedState {
+        SavedState::Chains {
+            chains: state
+                .chains
+                .iter()
+                .map(|c| SavedIndividual::save(graph, c))
+                .collect(),
+            betas_bits: state.betas.iter().map(|b| b.to_bits()).collect(),
+        }
+    }
 }
 
 impl Method for Rjmcmc {
@@ -553,36 +594,11 @@ impl Method for Rjmcmc {
     }
 
     fn restore(&self, graph: &Graph, checkpoint: &Checkpoint) -> Result<Chains, OptimizeError> {
-        let SavedState::Chains { chains, betas_bits } = &checkpoint.state else {
-            return Err(OptimizeError::Checkpoint(
-                "it holds no RJMCMC chains".into(),
-            ));
-        };
-        if chains.len() != self.params.chains || betas_bits.len() != chains.len() {
-            return Err(OptimizeError::Checkpoint(format!(
-                "it holds {} chains, not {}",
-                chains.len(),
-                self.params.chains
-            )));
-        }
-        Ok(Chains {
-            chains: chains
-                .iter()
-                .map(|c| c.restore(graph))
-                .collect::<Result<Vec<_>, _>>()?,
-            betas: betas_bits.iter().map(|&b| f64::from_bits(b)).collect(),
-        })
+        self.restore_state(graph, &checkpoint.state)
     }
 
     fn save(&self, graph: &Graph, state: &Chains) -> SavedState {
-        SavedState::Chains {
-            chains: state
-                .chains
-                .iter()
-                .map(|c| SavedIndividual::save(graph, c))
-                .collect(),
-            betas_bits: state.betas.iter().map(|b| b.to_bits()).collect(),
-        }
+        self.save_state(graph, state)
     }
 
     fn report<'s>(&self, _graph: &Graph, state: &'s Chains) -> Cow<'s, [Individual]> {

@@ -1,7 +1,8 @@
 //! `[ga]`, `[smc]`, `[sosmc]`, `[rjmcmc]`, `[islands]` and budgets. A
 //! method without a table gets the paper's spaceship presets; a key left out
 //! of a table gets the preset's value. The island GA is the experiment's GA
-//! split into islands, with the GA's budget unless `[islands]` gives one.
+//! split into islands, with the GA's budget unless `[islands]` gives one;
+//! the hybrid runs the experiment's GA, then its RJMCMC.
 
 use std::collections::BTreeMap;
 
@@ -15,7 +16,8 @@ use crate::experiment::file::{
 use crate::experiment::{ExperimentError, Method, MethodConfig, MethodParams};
 use crate::ops::{CrossoverConfig, EdgeMatch, InitLength, MutationSplit};
 use crate::optimize::{
-    Budget, DelayedRejection, GaParams, IslandParams, RjmcmcParams, SmcParams, Topology,
+    Budget, DelayedRejection, GaParams, HybridParams, IslandParams, RjmcmcParams, SmcParams,
+    Topology,
 };
 
 /// The largest population, particle or chain count (each individual keeps a
@@ -60,6 +62,7 @@ pub(super) fn from_file(
         ),
         (Method::Rjmcmc, rjmcmc(ctx, f.rjmcmc.as_ref())?),
         (Method::Islands, islands(ctx, f)?),
+        (Method::Hybrid, hybrid(ctx, f)?),
     ]))
 }
 
@@ -267,6 +270,43 @@ fn islands(ctx: &Ctx<'_>, f: &ExperimentFile) -> Result<MethodConfig, Experiment
         MethodParams::Islands(params),
         problems,
         i.budget.as_ref(),
+    )?;
+    config.budget = config.budget.or(ga.budget);
+    Ok(config)
+}
+
+/// Generations without a gain before the hybrid switches, without `[hybrid]`.
+const HYBRID_PATIENCE: u64 = 100;
+
+/// The hybrid: the `[ga]` settings, then the `[rjmcmc]` ones.
+fn hybrid(ctx: &Ctx<'_>, f: &ExperimentFile) -> Result<MethodConfig, ExperimentError> {
+    let ga = ga(ctx, f.ga.as_ref())?;
+    let (MethodParams::Ga(ga_params), MethodParams::Rjmcmc(rjmcmc)) =
+        (ga.params, rjmcmc(ctx, f.rjmcmc.as_ref())?.params)
+    else {
+        unreachable!("the GA's and RJMCMC's configurations hold their parameters")
+    };
+    let mut params = HybridParams {
+        ga: ga_params,
+        rjmcmc,
+        patience: HYBRID_PATIENCE,
+    };
+    let Some(t) = f.hybrid.as_ref() else {
+        return Ok(MethodConfig {
+            params: MethodParams::Hybrid(params),
+            budget: ga.budget,
+        });
+    };
+    let h = t.get_ref();
+    params.patience = h.patience.unwrap_or(HYBRID_PATIENCE);
+    let problems = params.problems();
+    let mut config = config(
+        ctx,
+        Method::Hybrid,
+        t,
+        MethodParams::Hybrid(params),
+        problems,
+        h.budget.as_ref(),
     )?;
     config.budget = config.budget.or(ga.budget);
     Ok(config)

@@ -1,0 +1,231 @@
+//! The hybrid: the GA while it improves, then RJMCMC chains started from
+//! the GA's best models (the paper's future work).
+
+use std::borrow::Cow;
+use std::collections::HashSet;
+use std::ops::ControlFlow;
+
+use serde::{Deserialize, Serialize};
+
+use super::checkpoint::{Checkpoint, SavedState};
+use super::driver::{Context, Method, Run, drive};
+use super::fitness::is_valid_score;
+use super::ga::GaState;
+use super::rjmcmc::Chains;
+use super::selection::rank_order;
+use super::{
+    Fitness, Ga, GaParams, Individual, OptimizeError, Optimizer, Rjmcmc, RjmcmcParams, RunResult,
+};
+use crate::graph::Graph;
+
+/// Parameters of the [`Hybrid`].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct HybridParams {
+    /// The first phase's GA.
+    pub ga: GaParams,
+    /// The second phase's RJMCMC (its `chains` start from the GA's best
+    /// distinct models; its `init` is not used).
+    pub rjmcmc: RjmcmcParams,
+    /// Generations without a gain of the GA's best before the switch.
+    pub patience: u64,
+}
+
+impl HybridParams {
+    /// Every problem with these parameters.
+    pub fn problems(&self) -> Vec<String> {
+        let mut p = self.ga.problems();
+        p.extend(self.rjmcmc.problems());
+        if self.patience == 0 {
+            p.push("patience must be at least 1 generation".into());
+        }
+        p
+    }
+}
+
+/// The GA (paper Algorithm 1) as long as its best improves; once it has not
+/// for `patience` generations, RJMCMC with parallel tempering continues from
+/// the GA population's best distinct models (one chain each, the best on the
+/// coldest chain) for the rest of the budget.
+///
+/// The GA exploits a target fast; when its population has collapsed onto one
+/// model it cannot leave (a tree shrunk to its trunk, say), the chains'
+/// tempered acceptance can cross the valley. Each phase draws from its own
+/// method's streams, so the run is deterministic for any thread count.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hybrid {
+    /// The parameters.
+    pub params: HybridParams,
+}
+
+impl Hybrid {
+    /// A hybrid with the given parameters.
+    #[must_use]
+    pub const fn new(params: HybridParams) -> Self {
+        Self { params }
+    }
+
+    fn ga(&self) -> Ga {
+        Ga::new(self.params.ga)
+    }
+
+    fn rjmcmc(&self) -> Rjmcmc {
+        Rjmcmc::new(self.params.rjmcmc)
+    }
+
+    /// The chains the GA hands over: its best distinct valid models (the
+    /// population is sorted best first), repeated when there are fewer.
+    fn chains_from(&self, graph: &Graph, population: &[Individual]) -> Chains {
+        let mut seen = HashSet::new();
+        let mut best: Vec<Individual> = population
+            .iter()
+            .filter(|i| is_valid_score(i.fitness))
+            .filter(|i| seen.insert(i.chromosome.structural_hash(graph)))
+            .take(self.params.rjmcmc.chains)
+            .cloned()
+            .collect();
+        if best.is_empty() {
+            best.push(population[0].clone());
+        }
+        let chains = (0..self.params.rjmcmc.chains)
+            .map(|k| best[k % best.len()].clone())
+            .collect();
+        Chains {
+            chains,
+            betas: self.params.rjmcmc.ladder.betas(self.params.rjmcmc.chains),
+        }
+    }
+}
+
+/// The phase a hybrid run is in.
+pub(crate) enum Phase {
+    /// The GA, with its best so far and the generations since it last improved.
+    Ga {
+        state: GaState,
+        best: f64,
+        stalled: u64,
+    },
+    /// RJMCMC from the GA's best.
+    Rjmcmc(Chains),
+}
+
+impl Phase {
+    fn ga(state: GaState) -> Self {
+        let best = state.population.first().map_or(f64::NAN, |i| i.fitness);
+        Self::Ga {
+            state,
+            best,
+            stalled: 0,
+        }
+    }
+}
+
+impl Optimizer for Hybrid {
+    fn name(&self) -> &'static str {
+        "hybrid"
+    }
+
+    fn run_from<F: Fitness>(&self, run: Run<'_, F>) -> Result<RunResult, OptimizeError> {
+        drive(self, run)
+    }
+}
+
+impl Method for Hybrid {
+    type Params = HybridParams;
+    type State = Phase;
+
+    fn name(&self) -> &'static str {
+        "hybrid"
+    }
+
+    fn params(&self) -> &HybridParams {
+        &self.params
+    }
+
+    fn problems(&self) -> Vec<String> {
+        self.params.problems()
+    }
+
+    fn init<F: Fitness>(&self, cx: &mut Context<'_, '_, F>) -> Result<Phase, OptimizeError> {
+        Ok(Phase::ga(self.ga().init(cx)?))
+    }
+
+    fn restore(&self, graph: &Graph, checkpoint: &Checkpoint) -> Result<Phase, OptimizeError> {
+        let SavedState::Hybrid {
+            best_bits,
+            stalled,
+            state,
+        } = &checkpoint.state
+        else {
+            return Err(OptimizeError::Checkpoint("it holds no hybrid state".into()));
+        };
+        Ok(match state.as_ref() {
+            SavedState::Chains { .. } => Phase::Rjmcmc(self.rjmcmc().restore_state(graph, state)?),
+            _ => Phase::Ga {
+                state: self.ga().restore_state(graph, state)?,
+                best: f64::from_bits(*best_bits),
+                stalled: *stalled,
+            },
+        })
+    }
+
+    fn save(&self, graph: &Graph, phase: &Phase) -> SavedState {
+        let (best_bits, stalled, state) = match phase {
+            Phase::Ga {
+                state,
+                best,
+                stalled,
+            } => (best.to_bits(), *stalled, self.ga().save_state(graph, state)),
+            Phase::Rjmcmc(chains) => (0, 0, self.rjmcmc().save_state(graph, chains)),
+        };
+        SavedState::Hybrid {
+            best_bits,
+            stalled,
+            state: Box::new(state),
+        }
+    }
+
+    fn report<'s>(&self, _graph: &Graph, phase: &'s Phase) -> Cow<'s, [Individual]> {
+        match phase {
+            Phase::Ga { state, .. } => Cow::Borrowed(&state.population),
+            Phase::Rjmcmc(chains) => Cow::Borrowed(&chains.chains),
+        }
+    }
+
+    fn final_population(&self, _graph: &Graph, phase: Phase) -> Vec<Individual> {
+        match phase {
+            Phase::Ga { state, .. } => state.population,
+            Phase::Rjmcmc(chains) => chains.chains,
+        }
+    }
+
+    fn step<F: Fitness>(
+        &self,
+        cx: &mut Context<'_, '_, F>,
+        phase: &mut Phase,
+    ) -> Result<ControlFlow<Vec<Individual>>, OptimizeError> {
+        let Phase::Ga {
+            state,
+            best,
+            stalled,
+        } = phase
+        else {
+            let Phase::Rjmcmc(chains) = phase else {
+                unreachable!()
+            };
+            return self.rjmcmc().step(cx, chains);
+        };
+        if let ControlFlow::Break(population) = self.ga().step(cx, state)? {
+            return Ok(ControlFlow::Break(population));
+        }
+        let now = state.population[0].fitness;
+        if rank_order(now, *best).is_lt() {
+            (*best, *stalled) = (now, 0);
+        } else {
+            *stalled += 1;
+        }
+        if *stalled >= self.params.patience {
+            *phase = Phase::Rjmcmc(self.chains_from(cx.graph, &state.population));
+        }
+        Ok(ControlFlow::Continue(()))
+    }
+}

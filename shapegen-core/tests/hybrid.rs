@@ -1,0 +1,149 @@
+//! The hybrid (GA, then RJMCMC from the GA's best): switches when the GA
+//! stalls, valid on random graphs, deterministic whatever the thread count,
+//! reaching the blocks optimum and beating random search.
+
+use proptest::prelude::*;
+use shapegen_core::demo::{BlocksTarget, blocks_graph};
+use shapegen_core::optimize::{Hybrid, HybridParams, RjmcmcParams};
+use shapegen_core::prelude::*;
+
+fn hybrid(patience: u64) -> Hybrid {
+    let init = InitLength::Around { l0: 20 };
+    Hybrid::new(HybridParams {
+        ga: GaParams {
+            population: 60,
+            elites: 10,
+            init,
+            ..GaParams::paper_spaceship()
+        },
+        rjmcmc: RjmcmcParams::paper(12, init),
+        patience,
+    })
+}
+
+fn pool(threads: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+}
+
+#[test]
+fn a_stalled_ga_hands_over_to_chains_from_its_best() {
+    let graph = blocks_graph();
+    // A constant fitness: the GA never improves, so it switches after `patience`.
+    let flat = FnFitness(|_: &Chromosome| 1.0);
+    let mut sizes = Vec::new();
+    let mut observer = |s: &GenerationStats<'_>| {
+        sizes.push(s.generation);
+        std::ops::ControlFlow::Continue(())
+    };
+    let r = hybrid(5)
+        .run(&graph, &flat, &Budget::generations(12), 3, &mut observer)
+        .unwrap();
+    // 12 RJMCMC chains after the switch, not the GA's 60.
+    assert_eq!(r.population.len(), 12);
+    let r = hybrid(50)
+        .run(&graph, &flat, &Budget::generations(12), 3, &mut NoObserver)
+        .unwrap();
+    assert_eq!(r.population.len(), 60);
+    assert_eq!(sizes.len(), 13);
+}
+
+#[test]
+fn the_hybrid_reaches_the_optimum_and_beats_random_search() {
+    let graph = blocks_graph();
+    let fitness = BlocksTarget {
+        graph: &graph,
+        blocks: 20,
+    };
+    for (seed, patience) in [(1, 5), (2, 20), (3, 1000)] {
+        let r = hybrid(patience)
+            .run(
+                &graph,
+                &fitness,
+                &Budget::evaluations(25_000),
+                seed,
+                &mut NoObserver,
+            )
+            .unwrap();
+        let random = RandomSearch {
+            batch: 100,
+            init: InitLength::Around { l0: 20 },
+        }
+        .run(
+            &graph,
+            &fitness,
+            &Budget::evaluations(r.evaluations),
+            seed,
+            &mut NoObserver,
+        )
+        .unwrap();
+        assert!(
+            r.best_fitness > 0.95,
+            "seed {seed}: the hybrid reached only {}",
+            r.best_fitness
+        );
+        assert!(
+            r.best_fitness > random.best_fitness + 0.3,
+            "seed {seed}: hybrid {} vs random search {}",
+            r.best_fitness,
+            random.best_fitness
+        );
+        r.best.validate(&graph).unwrap();
+    }
+}
+
+#[test]
+fn same_seed_same_result_whatever_the_thread_count() {
+    let graph = blocks_graph();
+    let fitness = BlocksTarget {
+        graph: &graph,
+        blocks: 30,
+    };
+    let run = |threads, seed| {
+        pool(threads).install(|| {
+            hybrid(3)
+                .run(
+                    &graph,
+                    &fitness,
+                    &Budget::generations(40),
+                    seed,
+                    &mut NoObserver,
+                )
+                .unwrap()
+        })
+    };
+    let one = run(1, 7);
+    for threads in [2, 4] {
+        let many = run(threads, 7);
+        assert_eq!(one.best_fitness.to_bits(), many.best_fitness.to_bits());
+        assert_eq!(one.evaluations, many.evaluations);
+        assert_eq!(one.population, many.population);
+    }
+    assert_ne!(one.population, run(1, 8).population);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 32, ..ProptestConfig::default() })]
+
+    /// Every model of hybrid runs on random graphs, in either phase, is a valid chromosome.
+    #[test]
+    fn models_are_valid_chromosomes(graph in crate::common::graph(), seed in any::<u64>(), patience in 1u64..6) {
+        let f = FnFitness(|c: &Chromosome| -(c.len() as f64 - 10.0).abs());
+        let init = InitLength::Between { lo: 1, hi: 30 };
+        let params = HybridParams {
+            ga: GaParams { population: 10, elites: 2, init, ..GaParams::paper_spaceship() },
+            rjmcmc: RjmcmcParams::paper(4, init),
+            patience,
+        };
+        let mut check = |s: &GenerationStats<'_>| {
+            s.best_chromosome.validate(&graph).unwrap();
+            std::ops::ControlFlow::Continue(())
+        };
+        let r = Hybrid::new(params).run(&graph, &f, &Budget::generations(15), seed, &mut check).unwrap();
+        for i in &r.population {
+            i.chromosome.validate(&graph).map_err(|e| TestCaseError::fail(e.to_string()))?;
+        }
+    }
+}
