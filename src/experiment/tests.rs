@@ -172,6 +172,27 @@ fn the_paper_experiments_load() {
 }
 
 #[test]
+fn the_other_targets_load() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/other_targets");
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/paper");
+    if !data.is_dir() {
+        eprintln!("skipped: no paper data at {}", data.display());
+        return;
+    }
+    let mut names = Vec::new();
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let e = Experiment::load(&entry.unwrap().path(), &LoadOptions::default())
+            .unwrap_or_else(|err| panic!("{err}"));
+        for m in Method::ALL {
+            assert!(e.budget(m).is_some(), "{}: {m} has a budget", e.name());
+        }
+        names.push(e.name().to_string());
+    }
+    names.sort();
+    assert_eq!(names, ["tree_sketch_eg", "tree_sketch_mickey"]);
+}
+
+#[test]
 fn a_target_with_holes_may_use_the_winding_number() {
     // A box [-3, 3] × [-3, 3] × [0, 10] without its +x side.
     let dir = std::env::temp_dir().join(format!("shapegen-inside-{}", std::process::id()));
