@@ -52,46 +52,9 @@ fn a_stalled_ga_hands_over_to_chains_from_its_best() {
 
 #[test]
 fn the_hybrid_reaches_the_optimum_and_beats_random_search() {
-    let graph = blocks_graph();
-    let fitness = BlocksTarget {
-        graph: &graph,
-        blocks: 20,
-    };
-    for (seed, patience) in [(1, 5), (2, 20), (3, 1000)] {
-        let r = hybrid(patience)
-            .run(
-                &graph,
-                &fitness,
-                &Budget::evaluations(25_000),
-                seed,
-                &mut NoObserver,
-            )
-            .unwrap();
-        let random = RandomSearch {
-            batch: 100,
-            init: InitLength::Around { l0: 20 },
-        }
-        .run(
-            &graph,
-            &fitness,
-            &Budget::evaluations(r.evaluations),
-            seed,
-            &mut NoObserver,
-        )
-        .unwrap();
-        assert!(
-            r.best_fitness > 0.95,
-            "seed {seed}: the hybrid reached only {}",
-            r.best_fitness
-        );
-        assert!(
-            r.best_fitness > random.best_fitness + 0.3,
-            "seed {seed}: hybrid {} vs random search {}",
-            r.best_fitness,
-            random.best_fitness
-        );
-        r.best.validate(&graph).unwrap();
-    }
+    // Switching early, late, and never.
+    let patience = |seed| [5, 20, 1000][seed as usize - 1];
+    crate::common::reaches_the_blocks_optimum(|seed| hybrid(patience(seed)), &[1, 2, 3]);
 }
 
 #[test]

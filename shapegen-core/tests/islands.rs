@@ -30,52 +30,17 @@ fn pool(threads: usize) -> rayon::ThreadPool {
 
 #[test]
 fn islands_reach_the_optimum_and_beat_random_search() {
-    let graph = blocks_graph();
-    let fitness = BlocksTarget {
-        graph: &graph,
-        blocks: 20,
-    };
-    for (seed, topology) in [
-        (1, Topology::Ring),
-        (2, Topology::Random),
-        (3, Topology::Ring),
-    ] {
-        let r = islands(topology)
-            .run(
-                &graph,
-                &fitness,
-                &Budget::evaluations(25_000),
-                seed,
-                &mut NoObserver,
-            )
-            .unwrap();
-        let random = RandomSearch {
-            batch: 100,
-            init: InitLength::Around { l0: 20 },
+    let topology = |seed| {
+        if seed == 2 {
+            Topology::Random
+        } else {
+            Topology::Ring
         }
-        .run(
-            &graph,
-            &fitness,
-            &Budget::evaluations(r.evaluations),
-            seed,
-            &mut NoObserver,
-        )
-        .unwrap();
-        assert!(
-            r.best_fitness > 0.95,
-            "seed {seed}: islands reached only {}",
-            r.best_fitness
-        );
-        assert!(
-            r.best_fitness > random.best_fitness + 0.3,
-            "seed {seed}: islands {} vs random search {}",
-            r.best_fitness,
-            random.best_fitness
-        );
+    };
+    for r in crate::common::reaches_the_blocks_optimum(|seed| islands(topology(seed)), &[1, 2, 3]) {
         // The final population is every island's, best first.
         assert_eq!(r.population.len(), 100);
         assert_eq!(r.population[0].fitness.to_bits(), r.best_fitness.to_bits());
-        r.best.validate(&graph).unwrap();
     }
 }
 
