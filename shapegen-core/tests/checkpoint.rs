@@ -23,6 +23,11 @@ fn check<O: Optimizer>(opt: &O, seed: u64) {
         graph: &graph,
         blocks: 12,
     };
+    check_with(opt, &graph, &fitness, seed);
+}
+
+/// [`check`] with another fitness.
+fn check_with<O: Optimizer, F: Fitness>(opt: &O, graph: &Graph, fitness: &F, seed: u64) {
     let budget = Budget::generations(TOTAL);
     let mut whole_curve = Vec::new();
     let mut observer = |s: &GenerationStats<'_>| {
@@ -30,7 +35,7 @@ fn check<O: Optimizer>(opt: &O, seed: u64) {
         ControlFlow::Continue(())
     };
     let whole = opt
-        .run(&graph, &fitness, &budget, seed, &mut observer)
+        .run(graph, fitness, &budget, seed, &mut observer)
         .unwrap();
 
     let mut saved: Option<String> = None;
@@ -44,7 +49,7 @@ fn check<O: Optimizer>(opt: &O, seed: u64) {
         ControlFlow::Continue(())
     };
     let first = opt
-        .run(&graph, &fitness, &budget, seed, &mut stop_early)
+        .run(graph, fitness, &budget, seed, &mut stop_early)
         .unwrap();
     assert_eq!(first.stop, StopReason::Observer);
     let checkpoint: Checkpoint = serde_json::from_str(&saved.unwrap()).unwrap();
@@ -56,7 +61,7 @@ fn check<O: Optimizer>(opt: &O, seed: u64) {
         ControlFlow::Continue(())
     };
     let resumed = opt
-        .resume(&graph, &fitness, &budget, &checkpoint, &mut observer)
+        .resume(graph, fitness, &budget, &checkpoint, &mut observer)
         .unwrap();
 
     let name = opt.name();
@@ -108,7 +113,7 @@ fn every_optimizer_resumes_bit_identically() {
             };
             check(&IslandGa::new(params), seed);
         }
-        // Switching before the checkpoint, after it, and never.
+        // On blocks the GA keeps improving: switching late or never.
         for patience in [2, 8, 100] {
             let params = HybridParams {
                 ga,
@@ -117,6 +122,38 @@ fn every_optimizer_resumes_bit_identically() {
             };
             check(&Hybrid::new(params), seed);
         }
+    }
+}
+
+#[test]
+fn the_hybrid_resumes_on_either_side_of_its_switch() {
+    // A two-valued fitness whose best is reached at once: the GA hands over
+    // `patience` generations later, before the checkpoint (3) or after it (8).
+    let graph = blocks_graph();
+    let flat = FnFitness(|c: &Chromosome| 1.0 / (1.0 + c.len() as f64 % 2.0));
+    let init = InitLength::Around { l0: 12 };
+    for patience in [3, 8] {
+        let params = HybridParams {
+            ga: GaParams {
+                population: 12,
+                elites: 3,
+                init,
+                ..GaParams::paper_spaceship()
+            },
+            rjmcmc: RjmcmcParams::paper(5, init),
+            patience,
+        };
+        let result = Hybrid::new(params)
+            .run(
+                &graph,
+                &flat,
+                &Budget::generations(TOTAL),
+                4,
+                &mut NoObserver,
+            )
+            .unwrap();
+        assert_eq!(result.population.len(), 5, "switched to the 5 chains");
+        check_with(&Hybrid::new(params), &graph, &flat, 4);
     }
 }
 
