@@ -166,6 +166,7 @@ fn the_paper_experiments_load() {
             "city_volume_castle",
             "spaceship_volume",
             "tree_avoid",
+            "tree_eg_logo",
             "tree_sketch"
         ]
     );
