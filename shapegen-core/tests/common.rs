@@ -229,3 +229,51 @@ pub fn reaches_the_blocks_optimum<O: Optimizer>(
     }
     results
 }
+
+/// Runs `optimizer` for `generations` on the 30-block problem with seed 7
+/// on 1, 2 and 4 threads, asserting the same best, evaluations and final
+/// population each time; returns the seed-7 run and a seed-8 run (on one
+/// thread), for the caller to check that another seed differs.
+pub fn same_result_whatever_the_thread_count<O: Optimizer + Sync>(
+    optimizer: &O,
+    generations: u64,
+) -> (RunResult, RunResult) {
+    use shapegen_core::demo::{BlocksTarget, blocks_graph};
+    let graph = blocks_graph();
+    let fitness = BlocksTarget {
+        graph: &graph,
+        blocks: 30,
+    };
+    let run = |threads, seed| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| {
+                optimizer
+                    .run(
+                        &graph,
+                        &fitness,
+                        &Budget::generations(generations),
+                        seed,
+                        &mut NoObserver,
+                    )
+                    .unwrap()
+            })
+    };
+    let one = run(1, 7);
+    for threads in [2, 4] {
+        let many = run(threads, 7);
+        let name = optimizer.name();
+        assert_eq!(
+            one.best_fitness.to_bits(),
+            many.best_fitness.to_bits(),
+            "{name}"
+        );
+        assert_eq!(one.best, many.best, "{name}");
+        assert_eq!(one.evaluations, many.evaluations, "{name}");
+        assert_eq!(one.population, many.population, "{name}");
+    }
+    let other = run(1, 8);
+    (one, other)
+}

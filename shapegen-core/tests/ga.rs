@@ -13,16 +13,9 @@ fn ga() -> Ga {
     })
 }
 
-fn pool(threads: usize) -> rayon::ThreadPool {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap()
-}
-
 #[test]
 fn ga_reaches_the_optimum_and_beats_random_search() {
-    let graph = shapegen_core::demo::blocks_graph();
+    let graph = blocks_graph();
     for r in crate::common::reaches_the_blocks_optimum(|_| ga(), &[1, 2, 3]) {
         let blocks = r.best.genes(&graph).filter(|g| g.slot_count() == 2).count();
         assert_eq!(blocks, 20, "the optimum's structure");
@@ -31,28 +24,8 @@ fn ga_reaches_the_optimum_and_beats_random_search() {
 
 #[test]
 fn same_seed_same_result_whatever_the_thread_count() {
-    let graph = blocks_graph();
-    let fitness = BlocksTarget {
-        graph: &graph,
-        blocks: 30,
-    };
-    let run = |threads, seed| {
-        let budget = Budget::generations(40);
-        pool(threads).install(|| {
-            ga().run(&graph, &fitness, &budget, seed, &mut NoObserver)
-                .unwrap()
-        })
-    };
-    let one = run(1, 7);
-    for threads in [2, 4] {
-        let many = run(threads, 7);
-        assert_eq!(one.best_fitness.to_bits(), many.best_fitness.to_bits());
-        assert_eq!(one.best, many.best);
-        assert_eq!(one.evaluations, many.evaluations);
-        assert_eq!(one.population, many.population);
-    }
+    let (one, other) = crate::common::same_result_whatever_the_thread_count(&ga(), 40);
     // A different seed gives a different run.
-    let other = run(1, 8);
     assert_ne!(one.best, other.best);
 }
 

@@ -3,7 +3,7 @@
 //! reaching the blocks optimum and beating random search.
 
 use proptest::prelude::*;
-use shapegen_core::demo::{BlocksTarget, blocks_graph};
+use shapegen_core::demo::blocks_graph;
 use shapegen_core::optimize::{Hybrid, HybridParams, RjmcmcParams};
 use shapegen_core::prelude::*;
 
@@ -19,13 +19,6 @@ fn hybrid(patience: u64) -> Hybrid {
         rjmcmc: RjmcmcParams::paper(12, init),
         patience,
     })
-}
-
-fn pool(threads: usize) -> rayon::ThreadPool {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap()
 }
 
 #[test]
@@ -59,32 +52,8 @@ fn the_hybrid_reaches_the_optimum_and_beats_random_search() {
 
 #[test]
 fn same_seed_same_result_whatever_the_thread_count() {
-    let graph = blocks_graph();
-    let fitness = BlocksTarget {
-        graph: &graph,
-        blocks: 30,
-    };
-    let run = |threads, seed| {
-        pool(threads).install(|| {
-            hybrid(3)
-                .run(
-                    &graph,
-                    &fitness,
-                    &Budget::generations(40),
-                    seed,
-                    &mut NoObserver,
-                )
-                .unwrap()
-        })
-    };
-    let one = run(1, 7);
-    for threads in [2, 4] {
-        let many = run(threads, 7);
-        assert_eq!(one.best_fitness.to_bits(), many.best_fitness.to_bits());
-        assert_eq!(one.evaluations, many.evaluations);
-        assert_eq!(one.population, many.population);
-    }
-    assert_ne!(one.population, run(1, 8).population);
+    let (one, other) = crate::common::same_result_whatever_the_thread_count(&hybrid(3), 40);
+    assert_ne!(one.population, other.population);
 }
 
 proptest! {

@@ -2,7 +2,6 @@
 //! count, reaching the blocks optimum and beating random search.
 
 use proptest::prelude::*;
-use shapegen_core::demo::{BlocksTarget, blocks_graph};
 use shapegen_core::optimize::{IslandGa, IslandParams, Topology};
 use shapegen_core::prelude::*;
 
@@ -19,13 +18,6 @@ fn islands(topology: Topology) -> IslandGa {
         migrants: 2,
         topology,
     })
-}
-
-fn pool(threads: usize) -> rayon::ThreadPool {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap()
 }
 
 #[test]
@@ -46,33 +38,10 @@ fn islands_reach_the_optimum_and_beat_random_search() {
 
 #[test]
 fn same_seed_same_result_whatever_the_thread_count() {
-    let graph = blocks_graph();
-    let fitness = BlocksTarget {
-        graph: &graph,
-        blocks: 30,
-    };
     for topology in [Topology::Ring, Topology::Random] {
-        let run = |threads, seed| {
-            pool(threads).install(|| {
-                islands(topology)
-                    .run(
-                        &graph,
-                        &fitness,
-                        &Budget::generations(30),
-                        seed,
-                        &mut NoObserver,
-                    )
-                    .unwrap()
-            })
-        };
-        let one = run(1, 7);
-        for threads in [2, 4] {
-            let many = run(threads, 7);
-            assert_eq!(one.best_fitness.to_bits(), many.best_fitness.to_bits());
-            assert_eq!(one.evaluations, many.evaluations);
-            assert_eq!(one.population, many.population);
-        }
-        assert_ne!(one.population, run(1, 8).population);
+        let (one, other) =
+            crate::common::same_result_whatever_the_thread_count(&islands(topology), 30);
+        assert_ne!(one.population, other.population);
     }
 }
 

@@ -285,13 +285,14 @@ pub(crate) struct GaState {
 impl GaState {
     /// The state of `population`, sorted best first (stable; failed
     /// evaluations last) as selection and the elites expect.
-    pub fn new(mut population: Vec<Individual>) -> Self {
-        population.sort_by(|a, b| rank_order(a.fitness, b.fitness));
-        Self {
+    pub fn new(population: Vec<Individual>) -> Self {
+        let mut state = Self {
             scores: Vec::with_capacity(population.len()),
-            population,
+            population: Vec::new(),
             wheel: Roulette::default(),
-        }
+        };
+        state.replace(population);
+        state
     }
 
     /// Makes `population` the current one, sorted best first.

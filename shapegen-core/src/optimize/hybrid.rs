@@ -203,16 +203,13 @@ impl Method for Hybrid {
         cx: &mut Context<'_, '_, F>,
         phase: &mut Phase,
     ) -> Result<ControlFlow<Vec<Individual>>, OptimizeError> {
-        let Phase::Ga {
-            state,
-            best,
-            stalled,
-        } = phase
-        else {
-            let Phase::Rjmcmc(chains) = phase else {
-                unreachable!()
-            };
-            return self.rjmcmc().step(cx, chains);
+        let (state, best, stalled) = match phase {
+            Phase::Rjmcmc(chains) => return self.rjmcmc().step(cx, chains),
+            Phase::Ga {
+                state,
+                best,
+                stalled,
+            } => (state, best, stalled),
         };
         if let ControlFlow::Break(population) = self.ga().step(cx, state)? {
             return Ok(ControlFlow::Break(population));

@@ -50,19 +50,19 @@ pub(super) fn from_file(
     ctx: &Ctx<'_>,
     f: &ExperimentFile,
 ) -> Result<BTreeMap<Method, MethodConfig>, ExperimentError> {
+    // In file order, so the first invalid table is the one reported; the
+    // island GA and the hybrid build on the GA's and RJMCMC's settings.
+    let ga = ga(ctx, f.ga.as_ref())?;
+    let smc_config = smc(ctx, Method::Smc, f.smc.as_ref(), SmcParams::paper)?;
+    let sosmc = smc(ctx, Method::Sosmc, f.sosmc.as_ref(), SmcParams::paper_sosmc)?;
+    let rjmcmc = rjmcmc(ctx, f.rjmcmc.as_ref())?;
     Ok(BTreeMap::from([
-        (Method::Ga, ga(ctx, f.ga.as_ref())?),
-        (
-            Method::Smc,
-            smc(ctx, Method::Smc, f.smc.as_ref(), SmcParams::paper)?,
-        ),
-        (
-            Method::Sosmc,
-            smc(ctx, Method::Sosmc, f.sosmc.as_ref(), SmcParams::paper_sosmc)?,
-        ),
-        (Method::Rjmcmc, rjmcmc(ctx, f.rjmcmc.as_ref())?),
-        (Method::Islands, islands(ctx, f)?),
-        (Method::Hybrid, hybrid(ctx, f)?),
+        (Method::Ga, ga),
+        (Method::Smc, smc_config),
+        (Method::Sosmc, sosmc),
+        (Method::Rjmcmc, rjmcmc),
+        (Method::Islands, islands(ctx, f, ga)?),
+        (Method::Hybrid, hybrid(ctx, f, ga, rjmcmc)?),
     ]))
 }
 
@@ -231,9 +231,12 @@ fn rjmcmc(
     )
 }
 
-/// The island GA: the `[ga]` population split across `islands` (default 4).
-fn islands(ctx: &Ctx<'_>, f: &ExperimentFile) -> Result<MethodConfig, ExperimentError> {
-    let ga = ga(ctx, f.ga.as_ref())?;
+/// The island GA: the `[ga]` population (`ga`) split across `islands` (default 4).
+fn islands(
+    ctx: &Ctx<'_>,
+    f: &ExperimentFile,
+    ga: MethodConfig,
+) -> Result<MethodConfig, ExperimentError> {
     let MethodParams::Ga(ga_params) = ga.params else {
         unreachable!("the GA's configuration holds GA parameters")
     };
@@ -278,11 +281,14 @@ fn islands(ctx: &Ctx<'_>, f: &ExperimentFile) -> Result<MethodConfig, Experiment
 /// Generations without a gain before the hybrid switches, without `[hybrid]`.
 const HYBRID_PATIENCE: u64 = 100;
 
-/// The hybrid: the `[ga]` settings, then the `[rjmcmc]` ones.
-fn hybrid(ctx: &Ctx<'_>, f: &ExperimentFile) -> Result<MethodConfig, ExperimentError> {
-    let ga = ga(ctx, f.ga.as_ref())?;
-    let (MethodParams::Ga(ga_params), MethodParams::Rjmcmc(rjmcmc)) =
-        (ga.params, rjmcmc(ctx, f.rjmcmc.as_ref())?.params)
+/// The hybrid: the `[ga]` settings (`ga`), then the `[rjmcmc]` ones (`rjmcmc`).
+fn hybrid(
+    ctx: &Ctx<'_>,
+    f: &ExperimentFile,
+    ga: MethodConfig,
+    rjmcmc: MethodConfig,
+) -> Result<MethodConfig, ExperimentError> {
+    let (MethodParams::Ga(ga_params), MethodParams::Rjmcmc(rjmcmc)) = (ga.params, rjmcmc.params)
     else {
         unreachable!("the GA's and RJMCMC's configurations hold their parameters")
     };
