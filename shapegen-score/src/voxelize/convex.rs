@@ -95,6 +95,35 @@ impl Voxelizer {
             if a.partial_cmp(&b) != Some(std::cmp::Ordering::Less) || x0 >= x1 {
                 return;
             }
+            // A plane parallel to x whose normal has no z (or no y)
+            // component tests y (or z) alone: `wz * 0.0` adds a zero, so
+            // the test of a row is the same number either way. Then each
+            // y and each z is tested once, not each row.
+            let parallel = || self.planes.iter().filter(|p| p.nv == 0.0);
+            if parallel().all(|p| p.ay == 0.0 || p.az == 0.0) {
+                self.rows_in.clear();
+                self.rows_in.extend(r.y.clone().map(|y| {
+                    let wy = grid.center_along(1, y);
+                    parallel()
+                        .filter(|p| p.az == 0.0)
+                        .all(|p| p.at + wy * p.ay <= p.d)
+                }));
+                for z in r.z.clone() {
+                    let wz = grid.center_along(2, z);
+                    let z_in = parallel()
+                        .filter(|p| p.az != 0.0)
+                        .all(|p| p.at + wz * p.az <= p.d);
+                    if !z_in {
+                        continue;
+                    }
+                    for (y, &y_in) in r.y.clone().zip(&self.rows_in) {
+                        if y_in {
+                            f(Span { y, z, x0, x1 });
+                        }
+                    }
+                }
+                return;
+            }
             for z in r.z.clone() {
                 let wz = grid.center_along(2, z);
                 for y in r.y.clone() {

@@ -58,6 +58,8 @@ pub struct Span {
 #[derive(Clone, Debug, Default)]
 pub struct Voxelizer {
     planes: Vec<convex::RowPlane>,
+    /// Which rows along y of a box lie inside its planes parallel to x.
+    rows_in: Vec<bool>,
     /// The placed mesh: vertices, then triangles (with any cone).
     world: Vec<DVec3>,
     tris: Vec<crate::solid::RowTri>,
