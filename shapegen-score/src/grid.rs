@@ -190,6 +190,61 @@ impl Grid {
     }
 }
 
+/// The centres of a range of lattice indices along one axis, each exactly
+/// [`Grid::center_along`], computed once for the many lookups of one
+/// instance (the voxelizer's rows and crossings).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Centres {
+    axis: usize,
+    start: i64,
+    centres: Vec<f64>,
+}
+
+impl Centres {
+    /// Takes the centres of `range` along `axis` of `grid`.
+    pub(crate) fn fill(&mut self, grid: &Grid, axis: usize, range: std::ops::Range<i64>) {
+        self.axis = axis;
+        self.start = range.start;
+        self.centres.clear();
+        self.centres
+            .extend(range.map(|i| grid.center_along(axis, i)));
+    }
+
+    /// [`Grid::center_along`] of `i`, which must lie in the range.
+    #[inline]
+    pub(crate) fn at(&self, i: i64) -> f64 {
+        self.centres[(i - self.start) as usize]
+    }
+
+    /// [`Grid::first_at_or_after`] of `x`: found in the table when the
+    /// answer lies strictly inside the range (a centre before it is below
+    /// `x`), else asked of the grid.
+    #[inline]
+    pub(crate) fn first_at_or_after(&self, grid: &Grid, x: f64) -> i64 {
+        let c = &self.centres;
+        let g = (x - grid.min[self.axis]) * grid.inv_cell[self.axis] - 0.5 - self.start as f64;
+        // The grid's own first guess, within the table (NaN fails too).
+        if !(g > 0.0 && g < c.len() as f64) {
+            return grid.first_at_or_after(self.axis, x);
+        }
+        let mut k = g as usize;
+        if (k as f64) < g {
+            k += 1;
+        }
+        while k > 0 && c[k - 1] >= x {
+            k -= 1;
+        }
+        while k < c.len() && c[k] < x {
+            k += 1;
+        }
+        // Now c[k − 1] < x <= c[k], if both exist.
+        if k == 0 || k == c.len() {
+            return grid.first_at_or_after(self.axis, x);
+        }
+        self.start + k as i64
+    }
+}
+
 #[cfg(test)]
 mod tests {
     #[test]
@@ -240,5 +295,44 @@ mod tests {
         assert!(Grid::new(Vec3::ONE, Vec3::ONE, UVec3::ONE).is_err());
         assert!(Grid::new(Vec3::ZERO, Vec3::ONE, UVec3::new(0, 1, 1)).is_err());
         assert!(Grid::new(Vec3::ZERO, Vec3::splat(f32::NAN), UVec3::ONE).is_err());
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig { cases: 4096, ..Default::default() })]
+        /// The table's answers equal the grid's, for points on, next to,
+        /// between and far from the centres, inside and outside the table's
+        /// range, and for NaN and infinities.
+        #[test]
+        fn centres_answer_as_the_grid(
+            dims in (1u32..300, 1u32..300),
+            lo in -50.0f32..50.0,
+            size in 0.01f32..100.0,
+            range in (-400i64..400, 0i64..60),
+            at in -3i64..63,
+            how in 0usize..7,
+            frac in 0.0f64..1.0,
+        ) {
+            let g = Grid::new(
+                Vec3::new(lo, 0.0, 0.0),
+                Vec3::new(lo + size, 1.0, 1.0),
+                UVec3::new(dims.0, dims.1, 1),
+            ).unwrap();
+            let mut c = Centres::default();
+            c.fill(&g, 0, range.0..range.0 + range.1);
+            let centre = g.center_along(0, range.0 + at);
+            let x = match how {
+                0 => centre,
+                1 => centre.next_up(),
+                2 => centre.next_down(),
+                3 => centre + frac * g.cell_size().x,
+                4 => f64::NAN,
+                5 => f64::INFINITY,
+                _ => f64::NEG_INFINITY,
+            };
+            proptest::prop_assert_eq!(c.first_at_or_after(&g, x), g.first_at_or_after(0, x));
+            for i in range.0..range.0 + range.1 {
+                proptest::prop_assert_eq!(c.at(i).to_bits(), g.center_along(0, i).to_bits());
+            }
+        }
     }
 }

@@ -9,18 +9,21 @@ use std::ops::Range;
 use glam::DAffine3;
 
 use super::{Rows, Span, Voxelizer};
-use crate::grid::Grid;
+use crate::grid::{Centres, Grid};
 use crate::solid::{MeshSolid, RowTri};
 
 /// An instance's rows (its box's, within the walkable lattice) and how a
 /// crossing of one of them packs into a sortable `u64`: the row (z-major,
 /// counted from the box's first) in the high 32 bits, then the cell (from
 /// the walkable lattice's first), then the crossing's sign.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub(super) struct RowKeys {
     x: Range<i64>,
     y: Range<i64>,
     z: Range<i64>,
+    /// The centres of the box's cells along x, and of its rows along y.
+    xs: Centres,
+    ys: Centres,
 }
 
 /// Triangles up to this many rows wide along y test every row of their box
@@ -29,13 +32,13 @@ pub(super) struct RowKeys {
 const SECTION_ROWS: i64 = 8;
 
 impl RowKeys {
-    /// The keys of the rows of box `r`.
-    pub(super) fn new(grid: &Grid, r: &Rows) -> Self {
-        Self {
-            x: grid.walkable(0),
-            y: r.y.clone(),
-            z: r.z.clone(),
-        }
+    /// Takes the keys of the rows of box `r`.
+    pub(super) fn fill(&mut self, grid: &Grid, r: &Rows) {
+        self.x = grid.walkable(0);
+        self.y = r.y.clone();
+        self.z = r.z.clone();
+        self.xs.fill(grid, 0, r.x_cells(grid));
+        self.ys.fill(grid, 1, r.y.clone());
     }
 
     /// How many rows the box has.
@@ -105,8 +108,11 @@ impl RowKeys {
             };
             let line = t.line(cz);
             for y in ys {
-                if let Some(x) = line.cross(grid.center_along(1, y)) {
-                    let cell = grid.first_at_or_after(0, x).clamp(self.x.start, self.x.end);
+                if let Some(x) = line.cross(self.ys.at(y)) {
+                    let cell = self
+                        .xs
+                        .first_at_or_after(grid, x)
+                        .clamp(self.x.start, self.x.end);
                     out.push(self.row(y, z) | ((cell - self.x.start) as u64) << 1 | sign);
                 }
             }
@@ -204,7 +210,8 @@ impl Voxelizer {
         mut f: impl FnMut(Span),
     ) {
         self.place(m, to_world);
-        let keys = RowKeys::new(grid, r);
+        let mut keys = std::mem::take(&mut self.row_keys);
+        keys.fill(grid, r);
         self.cross_rows(grid, &keys);
         for row in self.keys.chunk_by(|a, b| a >> 32 == b >> 32) {
             let (y, z) = keys.row_of(row[0]);
@@ -215,5 +222,6 @@ impl Voxelizer {
                 }
             }
         }
+        self.row_keys = keys;
     }
 }

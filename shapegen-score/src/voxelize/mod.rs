@@ -68,6 +68,8 @@ pub struct Voxelizer {
     keys: Vec<u64>,
     sorted: Vec<u64>,
     row_ends: Vec<u32>,
+    /// The rows of the instance being voxelized (kept for their memory).
+    row_keys: mesh::RowKeys,
     /// The placed winding cone and its clusters.
     cone: Vec<[DVec3; 3]>,
     clusters: Vec<winding::Cluster>,

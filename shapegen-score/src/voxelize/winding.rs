@@ -102,7 +102,8 @@ impl Voxelizer {
                 .map(|t| t.map(|p| to_world.transform_point3(p))),
         );
         self.tris.extend(self.cone.iter().map(|&t| RowTri::new(t)));
-        let keys = RowKeys::new(grid, r);
+        let mut keys = std::mem::take(&mut self.row_keys);
+        keys.fill(grid, r);
         self.cross_rows(grid, &keys);
         self.clusters.clear();
         cluster(&mut self.cone, 0, &mut self.clusters);
@@ -149,6 +150,7 @@ impl Voxelizer {
                 }
             }
         }
+        self.row_keys = keys;
     }
 }
 
