@@ -10,7 +10,7 @@ use shapegen::design::tasks;
 use shapegen::graph::Graph;
 use shapegen::prelude::*;
 
-use crate::util::{json, temp};
+use crate::util::{TempDir, json};
 
 fn shapegen(dir: &Path, args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_shapegen"))
@@ -60,7 +60,7 @@ fn score_batch(dir: &Path, graph: &Graph) {
 
 #[test]
 fn a_design_session_from_the_command_line() {
-    let dir = temp("design", "session");
+    let dir = TempDir::new("design", "session");
     let experiment = shapegen::experiment::Experiment::builtin();
     let graph = experiment.graph().clone();
     fails(&dir, &["design", "learn"], "no session");
@@ -239,7 +239,7 @@ fn sessions_refuse_bad_scores_unknown_models_and_other_generators() {
     assert_eq!(s.factors[0].scored.len(), 1);
     assert_eq!(s.factors[0].scored[0].score, 60.0);
     // A file round trip, and another generator's graph refused.
-    let dir = temp("design", "roundtrip");
+    let dir = TempDir::new("design", "roundtrip");
     let path = dir.join("s.json");
     s.save(&path).unwrap();
     let back = Session::load(&path, "spaceship", g).unwrap();
@@ -257,7 +257,7 @@ fn sessions_refuse_bad_scores_unknown_models_and_other_generators() {
 
 #[test]
 fn the_evaluation_command_writes_its_table_and_curves() {
-    let dir = temp("design", "evaluate");
+    let dir = TempDir::new("design", "evaluate");
     let out = ok(
         &dir,
         &[

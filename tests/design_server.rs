@@ -13,7 +13,7 @@ use serde_json::{Value, json};
 use shapegen::design::server::{DesignServer, Reply};
 use shapegen::experiment::Experiment;
 
-use crate::util::temp;
+use crate::util::TempDir;
 
 fn server(dir: &Path) -> DesignServer {
     DesignServer::new(Experiment::builtin(), &dir.join("session.json"), 3).unwrap()
@@ -36,7 +36,7 @@ fn call(s: &DesignServer, method: &str, url: &str, body: Value) -> (u16, Value) 
 
 #[test]
 fn every_call_of_the_api_and_its_errors() {
-    let dir = temp("server", "api");
+    let dir = TempDir::new("server", "api");
     let s = server(&dir);
     let page = s.respond("GET", "/", &[]);
     assert_eq!(
@@ -303,7 +303,7 @@ fn spawn(dir: &Path) -> (SocketAddr, Arc<AtomicBool>, std::thread::JoinHandle<()
 
 #[test]
 fn concurrent_requests_over_sockets_keep_every_score() {
-    let dir = temp("server", "concurrent");
+    let dir = TempDir::new("server", "concurrent");
     let (addr, stop, handle) = spawn(&dir);
     let (code, body) = http(
         addr,
@@ -389,7 +389,7 @@ fn the_page_in_a_headless_browser() {
         eprintln!("SKIPPED the_page_in_a_headless_browser: {why}; .ci/run installs what it needs");
         return;
     }
-    let dir = temp("server", "browser");
+    let dir = TempDir::new("server", "browser");
     let shots =
         std::env::var("SHAPEGEN_SCREENSHOTS").map_or_else(|_| dir.join("shots"), Into::into);
     std::fs::create_dir_all(&shots).unwrap();

@@ -505,16 +505,16 @@ fn target_meshes_that_cover_nothing_or_lose_faces() {
         );
         case.checks(&[name], &out);
     }
-    // Shapes 100 times the grid on a full-size grid: every instance covers
-    // every cell, so one model takes a good part of a second and
-    // generation 0 alone (20 models) would outlast a 1 s budget: the run
-    // ends at the budget with the models evaluated by then.
+    // Shapes 100 times the grid on a large grid (200×400×200): every
+    // instance covers every cell, so one model takes a good part of a
+    // second and generation 0 alone (20 models) would outlast a 1 s budget:
+    // the run ends at the budget with the models evaluated by then.
     let mut case = Case::new("huge-shape-slow-generation");
     case.file("t.obj", box_obj([-50.0, -50.0, -50.0], [50.0, 50.0, 50.0]));
     case.file(
         "e.toml",
         format!("{SMALL}[shapes.cube]\nmesh = \"t.obj\"\n")
-            .replace("[20, 40, 20]", "[100, 200, 100]"),
+            .replace("[20, 40, 20]", "[200, 400, 200]"),
     );
     let out = case.succeeds(&["run", "e.toml", "--seconds", "1", "--out", "out"]);
     let summary = json(&case.dir.join("out/summary.json"));
