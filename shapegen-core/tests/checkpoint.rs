@@ -7,8 +7,8 @@ use std::ops::ControlFlow;
 
 use shapegen_core::demo::{BlocksTarget, blocks_graph};
 use shapegen_core::optimize::{
-    Checkpoint, Hybrid, HybridParams, IslandGa, IslandParams, Rjmcmc, RjmcmcParams, Run,
-    SavedState, Smc, SmcParams, Topology,
+    Checkpoint, HYBRID_PATIENCE_SHARE, Hybrid, HybridParams, IslandGa, IslandParams, Rjmcmc,
+    RjmcmcParams, Run, SavedState, Smc, SmcParams, Topology,
 };
 use shapegen_core::prelude::*;
 
@@ -119,6 +119,7 @@ fn every_optimizer_resumes_bit_identically() {
                 ga,
                 rjmcmc: RjmcmcParams::paper(6, init),
                 patience,
+                patience_share: HYBRID_PATIENCE_SHARE,
             };
             check(&Hybrid::new(params), seed);
         }
@@ -142,6 +143,7 @@ fn the_hybrid_resumes_on_either_side_of_its_switch() {
             },
             rjmcmc: RjmcmcParams::paper(5, init),
             patience,
+            patience_share: HYBRID_PATIENCE_SHARE,
         };
         let result = Hybrid::new(params)
             .run(

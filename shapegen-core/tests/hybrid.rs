@@ -4,7 +4,7 @@
 
 use proptest::prelude::*;
 use shapegen_core::demo::blocks_graph;
-use shapegen_core::optimize::{Hybrid, HybridParams, RjmcmcParams};
+use shapegen_core::optimize::{HYBRID_PATIENCE_SHARE, Hybrid, HybridParams, RjmcmcParams};
 use shapegen_core::prelude::*;
 
 fn hybrid(patience: u64) -> Hybrid {
@@ -18,6 +18,7 @@ fn hybrid(patience: u64) -> Hybrid {
         },
         rjmcmc: RjmcmcParams::paper(12, init),
         patience,
+        patience_share: HYBRID_PATIENCE_SHARE,
     })
 }
 
@@ -68,6 +69,7 @@ proptest! {
             ga: GaParams { population: 10, elites: 2, init, ..GaParams::paper_spaceship() },
             rjmcmc: RjmcmcParams::paper(4, init),
             patience,
+            patience_share: HYBRID_PATIENCE_SHARE,
         };
         let mut check = |s: &GenerationStats<'_>| {
             s.best_chromosome.validate(&graph).unwrap();

@@ -125,6 +125,7 @@ fn the_hybrid_stops_mid_generation_in_either_phase() {
             },
             rjmcmc: RjmcmcParams::paper(8, init),
             patience,
+            patience_share: shapegen_core::optimize::HYBRID_PATIENCE_SHARE,
         });
         check(&hybrid, 150);
     }

@@ -281,6 +281,7 @@ pub(super) struct IslandsFile {
 #[serde(deny_unknown_fields)]
 pub(super) struct HybridFile {
     pub patience: Option<u64>,
+    pub patience_share: Option<f64>,
     pub budget: Option<Spanned<BudgetFile>>,
 }
 

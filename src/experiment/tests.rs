@@ -515,8 +515,13 @@ fn the_hybrid_runs_the_experiments_ga_then_its_rjmcmc() {
         panic!("hybrid runs the hybrid");
     };
     assert_eq!(
-        (p.ga.population, p.rjmcmc.chains, p.patience),
-        (120, 9, 100)
+        (
+            p.ga.population,
+            p.rjmcmc.chains,
+            p.patience,
+            p.patience_share
+        ),
+        (120, 9, 100, 0.5)
     );
     assert_eq!(e.budget(Method::Hybrid), e.budget(Method::Ga));
     let e = load(&format!("{MINIMAL}{ga}[hybrid]\npatience = 7\n")).unwrap();
@@ -524,4 +529,11 @@ fn the_hybrid_runs_the_experiments_ga_then_its_rjmcmc() {
     let (_, key, msg) = invalid(&format!("{MINIMAL}{ga}[hybrid]\npatience = 0\n"));
     assert_eq!(key, "hybrid");
     assert!(msg.contains("patience"), "{msg}");
+    let e = load(&format!("{MINIMAL}{ga}[hybrid]\npatience_share = 0.0\n")).unwrap();
+    assert!(
+        matches!(e.method(Method::Hybrid).params, MethodParams::Hybrid(p) if p.patience_share == 0.0)
+    );
+    let (_, key, msg) = invalid(&format!("{MINIMAL}{ga}[hybrid]\npatience_share = 1.5\n"));
+    assert_eq!(key, "hybrid");
+    assert!(msg.contains("patience_share"), "{msg}");
 }

@@ -26,8 +26,35 @@ pub struct HybridParams {
     /// The second phase's RJMCMC (its `chains` start from the GA's best
     /// distinct models; its `init` is not used).
     pub rjmcmc: RjmcmcParams,
-    /// Generations without a gain of the GA's best before the switch.
+    /// Generations without a gain of the GA's best before the switch, at
+    /// least.
     pub patience: u64,
+    /// The share of the generations run so far that the GA's best must
+    /// also have gone without a gain (0 to 1; 0: `patience` alone). Where
+    /// generations are fast, a GA that still improves in rare steps after
+    /// long plateaus (the city skylines) keeps going; a GA collapsed early
+    /// (within a few hundred generations) still hands over after about
+    /// `patience`.
+    #[serde(default = "default_patience_share")]
+    pub patience_share: f64,
+}
+
+impl HybridParams {
+    /// Whether the GA hands over after `stalled` generations without a
+    /// gain, at generation `generation` (the generations run, this one
+    /// included).
+    #[must_use]
+    pub fn switches(&self, stalled: u64, generation: u64) -> bool {
+        let share = (self.patience_share * generation as f64).ceil() as u64;
+        stalled >= self.patience.max(share)
+    }
+}
+
+/// The default [`HybridParams::patience_share`].
+pub const HYBRID_PATIENCE_SHARE: f64 = 0.5;
+
+fn default_patience_share() -> f64 {
+    HYBRID_PATIENCE_SHARE
 }
 
 impl HybridParams {
@@ -38,12 +65,19 @@ impl HybridParams {
         if self.patience == 0 {
             p.push("patience must be at least 1 generation".into());
         }
+        if !(0.0..=1.0).contains(&self.patience_share) {
+            p.push(format!(
+                "patience_share must be between 0 and 1 (got {})",
+                self.patience_share
+            ));
+        }
         p
     }
 }
 
 /// The GA (paper Algorithm 1) as long as its best improves; once it has not
-/// for `patience` generations, RJMCMC with parallel tempering continues from
+/// for `patience` generations and for `patience_share` of the generations
+/// run so far, RJMCMC with parallel tempering continues from
 /// the GA population's best distinct models (one chain each, the best on the
 /// coldest chain) for the rest of the budget.
 ///
@@ -220,9 +254,39 @@ impl Method for Hybrid {
         } else {
             *stalled += 1;
         }
-        if *stalled >= self.params.patience {
+        if self.params.switches(*stalled, cx.generation()) {
             *phase = Phase::Rjmcmc(self.chains_from(cx.graph, &state.population));
         }
         Ok(ControlFlow::Continue(()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn params(patience: u64, patience_share: f64) -> HybridParams {
+        HybridParams {
+            ga: GaParams::default(),
+            rjmcmc: RjmcmcParams::paper(12, crate::ops::InitLength::Around { l0: 20 }),
+            patience,
+            patience_share,
+        }
+    }
+
+    #[test]
+    fn the_switch_waits_for_patience_and_for_the_share_of_the_run() {
+        // Share 0: patience alone.
+        assert!(!params(100, 0.0).switches(99, 5000));
+        assert!(params(100, 0.0).switches(100, 5000));
+        // Early (a collapse within the first hundreds): patience decides.
+        assert!(!params(100, 0.5).switches(99, 150));
+        assert!(params(100, 0.5).switches(100, 200));
+        // Late, on a long plateau: half of the generations run.
+        assert!(!params(100, 0.5).switches(100, 2000));
+        assert!(!params(100, 0.5).switches(999, 1999));
+        assert!(params(100, 0.5).switches(1000, 2000));
+        // A GA that never improved switches at `patience` whatever the share.
+        assert!(params(7, 1.0).switches(7, 7));
     }
 }

@@ -36,7 +36,7 @@ pub use driver::Run;
 pub use evaluation::{Pooled, ScratchPool, evaluate_all};
 pub use fitness::{Fitness, FnFitness, is_valid_score};
 pub use ga::{Ga, GaParams};
-pub use hybrid::{Hybrid, HybridParams};
+pub use hybrid::{HYBRID_PATIENCE_SHARE, Hybrid, HybridParams};
 pub use island::{IslandGa, IslandParams, Topology};
 pub use method::MethodParams;
 pub use observer::{GenerationStats, Interruptible, NoObserver, Observer};

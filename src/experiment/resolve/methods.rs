@@ -16,8 +16,8 @@ use crate::experiment::file::{
 use crate::experiment::{ExperimentError, Method, MethodConfig, MethodParams};
 use crate::ops::{CrossoverConfig, EdgeMatch, InitLength, MutationSplit};
 use crate::optimize::{
-    Budget, DelayedRejection, GaParams, HybridParams, IslandParams, RjmcmcParams, SmcParams,
-    Topology,
+    Budget, DelayedRejection, GaParams, HYBRID_PATIENCE_SHARE, HybridParams, IslandParams,
+    RjmcmcParams, SmcParams, Topology,
 };
 
 /// The largest population, particle or chain count (each individual keeps a
@@ -296,6 +296,7 @@ fn hybrid(
         ga: ga_params,
         rjmcmc,
         patience: HYBRID_PATIENCE,
+        patience_share: HYBRID_PATIENCE_SHARE,
     };
     let Some(t) = f.hybrid.as_ref() else {
         return Ok(MethodConfig {
@@ -305,6 +306,7 @@ fn hybrid(
     };
     let h = t.get_ref();
     params.patience = h.patience.unwrap_or(HYBRID_PATIENCE);
+    params.patience_share = h.patience_share.unwrap_or(HYBRID_PATIENCE_SHARE);
     let problems = params.problems();
     let mut config = config(
         ctx,
