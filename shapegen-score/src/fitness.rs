@@ -44,8 +44,16 @@ pub trait Scene: Sync {
     fn scratch(&self) -> Self::Scratch;
     /// Clears the working memory for a new model.
     fn begin(scratch: &mut Self::Scratch);
-    /// Adds one instance of `shape`.
-    fn add(&self, scratch: &mut Self::Scratch, shape: &Self::Shape, transform: &Affine3A);
+    /// Adds one instance of `shape`, the fitness's shape number `id` (a
+    /// scratch belongs to the fitness that made it, so a scene may remember
+    /// what it did for an `id` and transform).
+    fn add(
+        &self,
+        scratch: &mut Self::Scratch,
+        id: ShapeId,
+        shape: &Self::Shape,
+        transform: &Affine3A,
+    );
     /// The counts of the model added since [`begin`](Scene::begin).
     fn counts(&self, scratch: &Self::Scratch) -> Self::Counts;
     /// The score of a model with `counts` and `len` genes.
@@ -196,7 +204,7 @@ struct SceneSink<'a, S: Scene> {
 impl<S: Scene> ModelSink for SceneSink<'_, S> {
     fn emit(&mut self, shape: ShapeId, transform: &Affine3A) {
         self.scene
-            .add(self.scratch, &self.shapes[shape as usize], transform);
+            .add(self.scratch, shape, &self.shapes[shape as usize], transform);
     }
 }
 

@@ -371,3 +371,62 @@ fn many_instances_on_one_cell_saturate_the_hit_count_only() {
         (c.good, c.bad)
     );
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    /// Models made of instances seen before (the same shape and transform,
+    /// in this model or an earlier one, as an optimizer's models are) count
+    /// the same through the instance cache of `add_shape` as through `add`
+    /// with a fresh scratch, for both outside rules and per-cell weights.
+    #[test]
+    fn cached_instances_count_as_fresh_ones(
+        pool in proptest::collection::vec(placement(0.3..2.0, Vec3::new(-2.5, -1.5, -2.5), Vec3::splat(2.5)), 1..5),
+        models in proptest::collection::vec(proptest::collection::vec((0usize..8, 0usize..2), 1..6), 1..5),
+        two in any::<bool>(),
+        aabb in any::<bool>(),
+    ) {
+        let mut scene = if two { two_target_scene() } else { scene() };
+        if aabb {
+            scene = scene.with_outside_count(OutsideCount::Aabb);
+        }
+        // Shape 0 convex, shape 1 a (non-convex) mesh: the same transform
+        // on two shapes must not share an entry.
+        let solids = [
+            Solid::new("cube", &Mesh::unit_cube()).unwrap(),
+            Solid::new("two cubes", &two_cubes()).unwrap(),
+        ];
+        prop_assert!(matches!(solids[1], Solid::Mesh(_)));
+        let mut cached = VolumeScratch::new(&scene);
+        for model in &models {
+            cached.begin();
+            let mut fresh = VolumeScratch::new(&scene);
+            for &(k, shape) in model {
+                let t = &pool[k % pool.len()];
+                cached.add_shape(&scene, shape as u16, &solids[shape], t);
+                fresh.add(&scene, &solids[shape], t);
+            }
+            prop_assert_eq!(cached.counts(), fresh.counts());
+            prop_assert_eq!(cached.hits(), fresh.hits());
+        }
+    }
+}
+
+/// Two small cubes side by side in one mesh: closed, not convex.
+fn two_cubes() -> Mesh {
+    let cube = Mesh::unit_cube();
+    let mut mesh = Mesh::unit_cube();
+    mesh.positions.clear();
+    mesh.triangles.clear();
+    for dx in [-0.3f32, 0.3] {
+        let n = mesh.positions.len() as u32;
+        mesh.positions.extend(
+            cube.positions
+                .iter()
+                .map(|p| *p * 0.4 + Vec3::new(dx, 0.0, 0.0)),
+        );
+        mesh.triangles
+            .extend(cube.triangles.iter().map(|t| t.map(|i| i + n)));
+    }
+    mesh
+}

@@ -1,6 +1,7 @@
 //! The paper's image scores, and image targets as a [`Scene`].
 
 use glam::Affine3A;
+use shapegen_core::express::ShapeId;
 use shapegen_core::graph::Limits;
 
 use super::{ImageCounts, ImageScratch, ImageTarget};
@@ -117,7 +118,13 @@ impl Scene for ImageTargets {
     fn begin(scratch: &mut ImageScratch) {
         scratch.begin();
     }
-    fn add(&self, scratch: &mut ImageScratch, shape: &RasterShape, transform: &Affine3A) {
+    fn add(
+        &self,
+        scratch: &mut ImageScratch,
+        _id: ShapeId,
+        shape: &RasterShape,
+        transform: &Affine3A,
+    ) {
         scratch.add(&self.targets, shape, transform);
     }
     fn counts(&self, scratch: &ImageScratch) -> ImageCounts {

@@ -1,6 +1,7 @@
 //! The paper's volume scores, and the volume scene as a [`Scene`].
 
 use glam::Affine3A;
+use shapegen_core::express::ShapeId;
 use shapegen_core::graph::Limits;
 
 use super::{VolumeCounts, VolumeScene, VolumeScratch};
@@ -110,8 +111,8 @@ impl Scene for VolumeScene {
     fn begin(scratch: &mut VolumeScratch) {
         scratch.begin();
     }
-    fn add(&self, scratch: &mut VolumeScratch, shape: &Solid, transform: &Affine3A) {
-        scratch.add(self, shape, transform);
+    fn add(&self, scratch: &mut VolumeScratch, id: ShapeId, shape: &Solid, transform: &Affine3A) {
+        scratch.add_shape(self, id, shape, transform);
     }
     fn counts(&self, scratch: &VolumeScratch) -> VolumeCounts {
         scratch.counts()
