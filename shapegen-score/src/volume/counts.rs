@@ -148,6 +148,8 @@ struct InstanceCache {
     runs: Vec<(u32, u32)>,
     /// Runs held at most: when full, the cache starts over.
     capacity: usize,
+    /// Instances held at most: when full, the cache starts over.
+    capacity_instances: usize,
 }
 
 impl Default for InstanceCache {
@@ -156,12 +158,17 @@ impl Default for InstanceCache {
             instances: HashMap::new(),
             runs: Vec::new(),
             capacity: CACHE_RUNS,
+            capacity_instances: CACHE_INSTANCES,
         }
     }
 }
 
 /// Runs the cache holds at most (8 bytes each); when full, it starts over.
 const CACHE_RUNS: usize = 1 << 21;
+
+/// Instances the cache holds at most (about 80 bytes each; instances
+/// outside the grid have no runs); when full, it starts over.
+const CACHE_INSTANCES: usize = 1 << 18;
 
 /// An instance: its shape and its transform's bits.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -243,7 +250,9 @@ impl VolumeScratch {
         if let Some(&cached) = self.cache.instances.get(&key) {
             self.replay(scene, cached);
         } else {
-            if self.cache.runs.len() >= self.cache.capacity {
+            if self.cache.runs.len() >= self.cache.capacity
+                || self.cache.instances.len() >= self.cache.capacity_instances
+            {
                 self.cache.instances.clear();
                 self.cache.runs.clear();
             }
@@ -390,15 +399,20 @@ mod tests {
         };
         let mut cached = VolumeScratch::new(&scene);
         cached.cache.capacity = 20;
+        let mut by_count = VolumeScratch::new(&scene);
+        by_count.cache.capacity_instances = 2;
         for model in [[0.1, 0.5, 0.1], [0.5, 0.9, 0.1], [0.9, 0.9, 0.5]] {
             cached.begin();
+            by_count.begin();
             let mut fresh = VolumeScratch::new(&scene);
             for x in model {
                 cached.add_shape(&scene, 0, &solid, &at(x));
+                by_count.add_shape(&scene, 0, &solid, &at(x));
                 fresh.add(&scene, &solid, &at(x));
             }
             assert_eq!(cached.counts(), fresh.counts());
             assert_eq!(cached.hits(), fresh.hits());
+            assert_eq!(by_count.counts(), fresh.counts());
         }
         // Three distinct instances were added: a cache that never started
         // over would hold them all.
