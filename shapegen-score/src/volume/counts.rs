@@ -2,6 +2,7 @@
 //! sums the scores need.
 
 use std::collections::HashMap;
+use std::collections::hash_map::Entry;
 
 use glam::Affine3A;
 use shapegen_core::express::ShapeId;
@@ -121,6 +122,47 @@ fn count_cell(c: &mut u8) -> (u8, u8, u8) {
     (first, first & (old >> 7), u8::from(h == 1))
 }
 
+/// The parts of a [`VolumeScratch`] that voxelizing an instance writes
+/// (the cache's runs in `record`, when it is being cached).
+struct Parts<'a> {
+    cells: &'a mut [u8],
+    touched: &'a mut Vec<(u32, u32)>,
+    voxelizer: &'a mut Voxelizer,
+    counts: &'a mut VolumeCounts,
+    record: Option<&'a mut Vec<(u32, u32)>>,
+}
+
+/// Voxelizes one instance into the counts (and its runs into `record`).
+fn voxelize(p: Parts<'_>, scene: &VolumeScene, solid: &Solid, transform: &Affine3A) {
+    let Parts {
+        cells: scratch,
+        touched,
+        voxelizer,
+        counts,
+        mut record,
+    } = p;
+    let grid = &scene.grid;
+    let by_solid = scene.outside_count == OutsideCount::Solid;
+    if !by_solid {
+        counts.outside += aabb_cells_outside(grid, solid, transform);
+    }
+    voxelizer.spans(grid, solid, transform, |s| {
+        let cells = in_grid(grid, s);
+        if by_solid {
+            counts.outside += (s.x1 - s.x0) as u64 - cells.len() as u64;
+        }
+        if cells.is_empty() {
+            return;
+        }
+        let run = (cells.start as u32, cells.len() as u32);
+        touched.push(run);
+        if let Some(runs) = record.as_deref_mut() {
+            runs.push(run);
+        }
+        count_span(&mut scratch[cells.clone()], scene.weights_of(cells), counts);
+    });
+}
+
 /// Per-thread working memory of volume evaluations: per cell its hit count
 /// (all zero between evaluations) and target flag, the runs to reset, and
 /// the voxelizer.
@@ -155,8 +197,9 @@ struct InstanceCache {
 impl Default for InstanceCache {
     fn default() -> Self {
         Self {
-            instances: HashMap::new(),
-            runs: Vec::new(),
+            // Room for a few hundred models' instances without regrowing.
+            instances: HashMap::with_capacity(1 << 14),
+            runs: Vec::with_capacity(1 << 16),
             capacity: CACHE_RUNS,
             capacity_instances: CACHE_INSTANCES,
         }
@@ -230,7 +273,18 @@ impl VolumeScratch {
     /// Adds one instance of `solid`, placed by `transform`.
     pub fn add(&mut self, scene: &VolumeScene, solid: &Solid, transform: &Affine3A) {
         let (good, bad) = (self.counts.good, self.counts.bad);
-        self.voxelize(scene, solid, transform, false);
+        voxelize(
+            Parts {
+                cells: &mut self.cells,
+                touched: &mut self.touched,
+                voxelizer: &mut self.voxelizer,
+                counts: &mut self.counts,
+                record: None,
+            },
+            scene,
+            solid,
+            transform,
+        );
         self.add_weight(scene, good, bad);
     }
 
@@ -246,58 +300,39 @@ impl VolumeScratch {
         transform: &Affine3A,
     ) {
         let (good, bad) = (self.counts.good, self.counts.bad);
-        let key = InstanceKey::new(shape, transform);
-        if let Some(&cached) = self.cache.instances.get(&key) {
-            self.replay(scene, cached);
-        } else {
-            if self.cache.runs.len() >= self.cache.capacity
-                || self.cache.instances.len() >= self.cache.capacity_instances
-            {
-                self.cache.instances.clear();
-                self.cache.runs.clear();
+        let cache = &mut self.cache;
+        if cache.runs.len() >= cache.capacity || cache.instances.len() >= cache.capacity_instances {
+            cache.instances.clear();
+            cache.runs.clear();
+        }
+        // One hash a lookup, hit or miss.
+        match cache.instances.entry(InstanceKey::new(shape, transform)) {
+            Entry::Occupied(hit) => {
+                let cached = *hit.get();
+                self.replay(scene, cached);
             }
-            let first = self.cache.runs.len() as u32;
-            let outside = self.counts.outside;
-            self.voxelize(scene, solid, transform, true);
-            let cached = Cached {
-                runs: (first, self.cache.runs.len() as u32),
-                outside: self.counts.outside - outside,
-            };
-            self.cache.instances.insert(key, cached);
+            Entry::Vacant(miss) => {
+                let first = cache.runs.len() as u32;
+                let outside = self.counts.outside;
+                voxelize(
+                    Parts {
+                        cells: &mut self.cells,
+                        touched: &mut self.touched,
+                        voxelizer: &mut self.voxelizer,
+                        counts: &mut self.counts,
+                        record: Some(&mut cache.runs),
+                    },
+                    scene,
+                    solid,
+                    transform,
+                );
+                miss.insert(Cached {
+                    runs: (first, cache.runs.len() as u32),
+                    outside: self.counts.outside - outside,
+                });
+            }
         }
         self.add_weight(scene, good, bad);
-    }
-
-    /// Voxelizes one instance into the counts (and its runs into the
-    /// cache's, if `record`).
-    fn voxelize(&mut self, scene: &VolumeScene, solid: &Solid, transform: &Affine3A, record: bool) {
-        let Self {
-            cells: scratch,
-            touched,
-            voxelizer,
-            counts,
-            cache,
-        } = self;
-        let grid = &scene.grid;
-        let by_solid = scene.outside_count == OutsideCount::Solid;
-        if !by_solid {
-            counts.outside += aabb_cells_outside(grid, solid, transform);
-        }
-        voxelizer.spans(grid, solid, transform, |s| {
-            let cells = in_grid(grid, s);
-            if by_solid {
-                counts.outside += (s.x1 - s.x0) as u64 - cells.len() as u64;
-            }
-            if cells.is_empty() {
-                return;
-            }
-            let run = (cells.start as u32, cells.len() as u32);
-            touched.push(run);
-            if record {
-                cache.runs.push(run);
-            }
-            count_span(&mut scratch[cells.clone()], scene.weights_of(cells), counts);
-        });
     }
 
     /// Counts a cached instance's runs again.
