@@ -122,45 +122,43 @@ fn count_cell(c: &mut u8) -> (u8, u8, u8) {
     (first, first & (old >> 7), u8::from(h == 1))
 }
 
-/// The parts of a [`VolumeScratch`] that voxelizing an instance writes
-/// (the cache's runs in `record`, when it is being cached).
-struct Parts<'a> {
-    cells: &'a mut [u8],
-    touched: &'a mut Vec<(u32, u32)>,
-    voxelizer: &'a mut Voxelizer,
-    counts: &'a mut VolumeCounts,
-    record: Option<&'a mut Vec<(u32, u32)>>,
-}
-
-/// Voxelizes one instance into the counts (and its runs into `record`).
-fn voxelize(p: Parts<'_>, scene: &VolumeScene, solid: &Solid, transform: &Affine3A) {
-    let Parts {
-        cells: scratch,
-        touched,
-        voxelizer,
-        counts,
-        mut record,
-    } = p;
-    let grid = &scene.grid;
-    let by_solid = scene.outside_count == OutsideCount::Solid;
-    if !by_solid {
-        counts.outside += aabb_cells_outside(grid, solid, transform);
+impl Work {
+    /// Voxelizes one instance into the counts (and its runs into `record`,
+    /// when it is being cached).
+    fn voxelize(
+        &mut self,
+        mut record: Option<&mut Vec<(u32, u32)>>,
+        scene: &VolumeScene,
+        solid: &Solid,
+        transform: &Affine3A,
+    ) {
+        let Self {
+            cells: scratch,
+            touched,
+            voxelizer,
+            counts,
+        } = self;
+        let grid = &scene.grid;
+        let by_solid = scene.outside_count == OutsideCount::Solid;
+        if !by_solid {
+            counts.outside += aabb_cells_outside(grid, solid, transform);
+        }
+        voxelizer.spans(grid, solid, transform, |s| {
+            let cells = in_grid(grid, s);
+            if by_solid {
+                counts.outside += (s.x1 - s.x0) as u64 - cells.len() as u64;
+            }
+            if cells.is_empty() {
+                return;
+            }
+            let run = (cells.start as u32, cells.len() as u32);
+            touched.push(run);
+            if let Some(runs) = record.as_deref_mut() {
+                runs.push(run);
+            }
+            count_span(&mut scratch[cells.clone()], scene.weights_of(cells), counts);
+        });
     }
-    voxelizer.spans(grid, solid, transform, |s| {
-        let cells = in_grid(grid, s);
-        if by_solid {
-            counts.outside += (s.x1 - s.x0) as u64 - cells.len() as u64;
-        }
-        if cells.is_empty() {
-            return;
-        }
-        let run = (cells.start as u32, cells.len() as u32);
-        touched.push(run);
-        if let Some(runs) = record.as_deref_mut() {
-            runs.push(run);
-        }
-        count_span(&mut scratch[cells.clone()], scene.weights_of(cells), counts);
-    });
 }
 
 /// Per-thread working memory of volume evaluations: per cell its hit count
@@ -168,11 +166,18 @@ fn voxelize(p: Parts<'_>, scene: &VolumeScene, solid: &Solid, transform: &Affine
 /// the voxelizer.
 #[derive(Clone, Debug)]
 pub struct VolumeScratch {
+    work: Work,
+    cache: InstanceCache,
+}
+
+/// What adding an instance writes: per cell its hit count and target flag,
+/// the runs to reset, the voxelizer and the counts.
+#[derive(Clone, Debug)]
+struct Work {
     cells: Vec<u8>,
     touched: Vec<(u32, u32)>,
     voxelizer: Voxelizer,
     counts: VolumeCounts,
-    cache: InstanceCache,
 }
 
 /// The cell runs of instances added before, by shape and transform.
@@ -241,14 +246,16 @@ impl VolumeScratch {
     #[must_use]
     pub fn new(scene: &VolumeScene) -> Self {
         Self {
-            cells: scene
-                .target
-                .iter()
-                .map(|&t| if t { TARGET } else { 0 })
-                .collect(),
-            touched: Vec::new(),
-            voxelizer: Voxelizer::new(),
-            counts: VolumeCounts::default(),
+            work: Work {
+                cells: scene
+                    .target
+                    .iter()
+                    .map(|&t| if t { TARGET } else { 0 })
+                    .collect(),
+                touched: Vec::new(),
+                voxelizer: Voxelizer::new(),
+                counts: VolumeCounts::default(),
+            },
             cache: InstanceCache::default(),
         }
     }
@@ -261,30 +268,19 @@ impl VolumeScratch {
 
     /// Starts counting a new model.
     pub fn begin(&mut self) {
-        for &(start, len) in &self.touched {
-            for c in &mut self.cells[start as usize..(start + len) as usize] {
+        for &(start, len) in &self.work.touched {
+            for c in &mut self.work.cells[start as usize..(start + len) as usize] {
                 *c &= TARGET;
             }
         }
-        self.touched.clear();
-        self.counts = VolumeCounts::default();
+        self.work.touched.clear();
+        self.work.counts = VolumeCounts::default();
     }
 
     /// Adds one instance of `solid`, placed by `transform`.
     pub fn add(&mut self, scene: &VolumeScene, solid: &Solid, transform: &Affine3A) {
-        let (good, bad) = (self.counts.good, self.counts.bad);
-        voxelize(
-            Parts {
-                cells: &mut self.cells,
-                touched: &mut self.touched,
-                voxelizer: &mut self.voxelizer,
-                counts: &mut self.counts,
-                record: None,
-            },
-            scene,
-            solid,
-            transform,
-        );
+        let (good, bad) = (self.work.counts.good, self.work.counts.bad);
+        self.work.voxelize(None, scene, solid, transform);
         self.add_weight(scene, good, bad);
     }
 
@@ -299,7 +295,7 @@ impl VolumeScratch {
         solid: &Solid,
         transform: &Affine3A,
     ) {
-        let (good, bad) = (self.counts.good, self.counts.bad);
+        let (good, bad) = (self.work.counts.good, self.work.counts.bad);
         let cache = &mut self.cache;
         if cache.runs.len() >= cache.capacity || cache.instances.len() >= cache.capacity_instances {
             cache.instances.clear();
@@ -313,22 +309,12 @@ impl VolumeScratch {
             }
             Entry::Vacant(miss) => {
                 let first = cache.runs.len() as u32;
-                let outside = self.counts.outside;
-                voxelize(
-                    Parts {
-                        cells: &mut self.cells,
-                        touched: &mut self.touched,
-                        voxelizer: &mut self.voxelizer,
-                        counts: &mut self.counts,
-                        record: Some(&mut cache.runs),
-                    },
-                    scene,
-                    solid,
-                    transform,
-                );
+                let outside = self.work.counts.outside;
+                self.work
+                    .voxelize(Some(&mut cache.runs), scene, solid, transform);
                 miss.insert(Cached {
                     runs: (first, cache.runs.len() as u32),
-                    outside: self.counts.outside - outside,
+                    outside: self.work.counts.outside - outside,
                 });
             }
         }
@@ -337,15 +323,15 @@ impl VolumeScratch {
 
     /// Counts a cached instance's runs again.
     fn replay(&mut self, scene: &VolumeScene, cached: Cached) {
-        self.counts.outside += cached.outside;
+        self.work.counts.outside += cached.outside;
         let (first, end) = cached.runs;
         for &(start, len) in &self.cache.runs[first as usize..end as usize] {
             let cells = start as usize..(start + len) as usize;
-            self.touched.push((start, len));
+            self.work.touched.push((start, len));
             count_span(
-                &mut self.cells[cells.clone()],
+                &mut self.work.cells[cells.clone()],
                 scene.weights_of(cells),
-                &mut self.counts,
+                &mut self.work.counts,
             );
         }
     }
@@ -356,8 +342,8 @@ impl VolumeScratch {
     fn add_weight(&mut self, scene: &VolumeScene, good: u64, bad: u64) {
         if let Some((w_target, w_other)) = scene.uniform {
             // This instance's newly covered cells, of each kind.
-            let (good, bad) = (self.counts.good - good, self.counts.bad - bad);
-            self.counts.weight +=
+            let (good, bad) = (self.work.counts.good - good, self.work.counts.bad - bad);
+            self.work.counts.weight +=
                 good as f64 * f64::from(w_target) + bad as f64 * f64::from(w_other);
         }
     }
@@ -365,20 +351,20 @@ impl VolumeScratch {
     /// The counts of the model added since [`begin`](Self::begin).
     #[must_use]
     pub fn counts(&self) -> VolumeCounts {
-        self.counts
+        self.work.counts
     }
 
     /// How many instances hit each cell (saturating at 127), indexed like
     /// [`Grid::index`], for the model added since [`begin`](Self::begin).
     #[must_use]
     pub fn hits(&self) -> Vec<u8> {
-        self.cells.iter().map(|c| c & HITS).collect()
+        self.work.cells.iter().map(|c| c & HITS).collect()
     }
 
     /// How many instances hit cell `i` (linear index), saturating at 127.
     #[must_use]
     pub fn hits_at(&self, i: usize) -> u8 {
-        self.cells[i] & HITS
+        self.work.cells[i] & HITS
     }
 }
 
