@@ -132,15 +132,18 @@ fn methods_parse_by_name() {
     );
 }
 
-#[test]
-fn the_paper_experiments_load() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/paper");
+/// Every experiment in `experiments/<folder>`, loaded, each with a budget
+/// for every method; `None` (the test skips) without the paper's data.
+fn load_folder(folder: &str) -> Option<Vec<Experiment>> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("experiments")
+        .join(folder);
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/paper");
     if !data.is_dir() {
         eprintln!("skipped: no paper data at {}", data.display());
-        return;
+        return None;
     }
-    let mut names = Vec::new();
+    let mut experiments = Vec::new();
     for entry in std::fs::read_dir(&dir).unwrap() {
         let path = entry.unwrap().path();
         let e =
@@ -148,10 +151,21 @@ fn the_paper_experiments_load() {
         for m in Method::ALL {
             assert!(e.budget(m).is_some(), "{}: {m} has a budget", e.name());
         }
-        assert!(e.optimum().is_some());
-        names.push(e.name().to_string());
+        experiments.push(e);
     }
-    names.sort();
+    experiments.sort_by(|a, b| a.name().cmp(b.name()));
+    Some(experiments)
+}
+
+#[test]
+fn the_paper_experiments_load() {
+    let Some(experiments) = load_folder("paper") else {
+        return;
+    };
+    for e in &experiments {
+        assert!(e.optimum().is_some());
+    }
+    let names: Vec<&str> = experiments.iter().map(Experiment::name).collect();
     // A relative path resolves `${data}` once (the tests run in the package root).
     let relative = Experiment::load(
         Path::new("experiments/paper/spaceship_volume.toml"),
@@ -174,22 +188,10 @@ fn the_paper_experiments_load() {
 
 #[test]
 fn the_other_targets_load() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/other_targets");
-    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/paper");
-    if !data.is_dir() {
-        eprintln!("skipped: no paper data at {}", data.display());
+    let Some(experiments) = load_folder("other_targets") else {
         return;
-    }
-    let mut names = Vec::new();
-    for entry in std::fs::read_dir(&dir).unwrap() {
-        let e = Experiment::load(&entry.unwrap().path(), &LoadOptions::default())
-            .unwrap_or_else(|err| panic!("{err}"));
-        for m in Method::ALL {
-            assert!(e.budget(m).is_some(), "{}: {m} has a budget", e.name());
-        }
-        names.push(e.name().to_string());
-    }
-    names.sort();
+    };
+    let names: Vec<&str> = experiments.iter().map(Experiment::name).collect();
     assert_eq!(names, ["tree_sketch_eg", "tree_sketch_mickey"]);
 }
 

@@ -39,6 +39,13 @@ pub struct HybridParams {
     pub patience_share: f64,
 }
 
+/// The default [`HybridParams::patience_share`].
+pub const HYBRID_PATIENCE_SHARE: f64 = 0.5;
+
+fn default_patience_share() -> f64 {
+    HYBRID_PATIENCE_SHARE
+}
+
 impl HybridParams {
     /// Whether the GA hands over after `stalled` generations without a
     /// gain, at generation `generation` (the generations run, this one
@@ -48,16 +55,7 @@ impl HybridParams {
         let share = (self.patience_share * generation as f64).ceil() as u64;
         stalled >= self.patience.max(share)
     }
-}
 
-/// The default [`HybridParams::patience_share`].
-pub const HYBRID_PATIENCE_SHARE: f64 = 0.5;
-
-fn default_patience_share() -> f64 {
-    HYBRID_PATIENCE_SHARE
-}
-
-impl HybridParams {
     /// Every problem with these parameters.
     pub fn problems(&self) -> Vec<String> {
         let mut p = self.ga.problems();

@@ -162,8 +162,9 @@ impl Work {
 }
 
 /// Per-thread working memory of volume evaluations: per cell its hit count
-/// (all zero between evaluations) and target flag, the runs to reset, and
-/// the voxelizer.
+/// (all zero between evaluations) and target flag, the runs to reset, the
+/// voxelizer, and the cell runs of the instances voxelized so far (see
+/// [`add_shape`](Self::add_shape)).
 #[derive(Clone, Debug)]
 pub struct VolumeScratch {
     work: Work,
