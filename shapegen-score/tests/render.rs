@@ -190,6 +190,66 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    /// Back faces are skipped only where that changes nothing: mirrored
+    /// instances (which turn a mesh's winding inside out) and open meshes
+    /// (whose holes show back faces) give the rasterizer's coverage, the
+    /// ray-cast depth, and the same depth and terminal per pixel as drawing
+    /// every face.
+    #[test]
+    fn skipping_back_faces_changes_no_pixel(cam in camera(), placements in proptest::collection::vec((placement(0.2..2.0, Vec3::splat(-2.0), Vec3::splat(2.0)), 0u16..7, 0usize..4), 1..5)) {
+        let meshes = meshes();
+        let instances: Vec<Instance> = placements
+            .iter()
+            .map(|&(transform, shape, mirror)| {
+                let mut flip = Vec3::ONE;
+                if mirror < 3 {
+                    flip[mirror] = -1.0;
+                }
+                Instance::new(shape, transform * Affine3A::from_scale(flip))
+            })
+            .collect();
+        check_exact(&cam, &meshes, &instances)?;
+        let prepared = RenderMeshes::new(&shape_meshes(&meshes)).unwrap();
+        let mut fast = Renderer::new();
+        let mut all = Renderer::new().drawing_all_faces();
+        let (g, h) = (fast.render(&prepared, &instances, &cam), all.render(&prepared, &instances, &cam));
+        prop_assert!(g.faces().len() <= h.faces().len());
+        for i in 0..g.len() {
+            prop_assert_eq!(g.depth(i), h.depth(i), "pixel {}", i);
+            prop_assert_eq!(g.terminal(i), h.terminal(i), "pixel {}", i);
+        }
+        prop_assert_eq!(g.terminal_pixels(), h.terminal_pixels());
+    }
+}
+
+/// Closed meshes (the cube, the star prism) and the open box skip their
+/// back faces, an open sheet does not (it bounds nothing); a cube seen from
+/// outside draws only the faces toward the eye.
+#[test]
+fn closed_meshes_draw_only_the_faces_toward_the_eye() {
+    let all = RenderMeshes::new(&shape_meshes(&meshes())).unwrap();
+    let skips: Vec<bool> = (0..7).map(|id| all.skips_back_faces(id)).collect();
+    // Cube, trunk, leaf, star prism, open box, open star, wavy sheet.
+    assert_eq!(skips, [true, true, true, true, true, true, false]);
+    let meshes = [Mesh::unit_cube()];
+    let prepared = RenderMeshes::new(&shape_meshes(&meshes)).unwrap();
+    let cam = Camera::orbit(0.7, 0.5, 4.0, DVec3::ZERO, 0.9, 0.1, 10.0, (64, 64)).unwrap();
+    let instances = [Instance::new(0, Affine3A::IDENTITY)];
+    let fast = Renderer::new().render(&prepared, &instances, &cam).clone();
+    let all = Renderer::new()
+        .drawing_all_faces()
+        .render(&prepared, &instances, &cam)
+        .clone();
+    assert!(prepared.skips_back_faces(0));
+    // Three sides are seen: six triangles, against all twelve.
+    assert_eq!(fast.faces().len(), 6);
+    assert_eq!(all.faces().len(), 12);
+    assert_eq!(fast.coverage(), all.coverage());
+}
+
 /// A unit cube seen face on (orthographic): one face of area 1 visible, the
 /// four side faces edge on (no pixels), the back face hidden.
 #[test]

@@ -11,6 +11,12 @@
 //! plane (one division a pixel), the face's normal, area and terminal type
 //! come from a per-face table ([`Face`]).
 //!
+//! Back faces are skipped where that provably changes nothing: for meshes
+//! that bound solids once their holes are capped, seen from outside their
+//! hull, away from their holes (`back_faces` holds the proof and the
+//! exact check). Each instance draws the faces turned toward the eye first,
+//! so that the occlusion tests skip more of the rest.
+//!
 //! - [`RenderMeshes`]: a generator's shape meshes prepared once;
 //! - [`Renderer`]: working memory; [`Renderer::render`] fills a [`GBuffer`],
 //!   [`Renderer::picture`] shades an image (with supersampling);
@@ -19,6 +25,7 @@
 //! - [`BoundingSphere`] and [`fit_camera`]: the camera at the distance where
 //!   the model's bounding sphere fits the frustum tightly.
 
+mod back_faces;
 mod fit;
 mod gbuffer;
 mod shade;
@@ -41,6 +48,11 @@ use crate::shapes::ShapeMeshes;
 struct RenderMesh {
     positions: Vec<DVec3>,
     triangles: Vec<[u32; 3]>,
+    /// Present if the mesh's back faces can be skipped (see `back_faces`).
+    closure: Option<back_faces::Closure>,
+    /// The sign that turns `(b − a) × (c − a)` outward, as far as the
+    /// enclosed volume tells (exact if `closure` is present; 0 if unknown).
+    outward: f64,
 }
 
 /// A generator's shape meshes prepared for rendering (checked and welded
@@ -64,9 +76,17 @@ impl RenderMeshes {
             let (name, mesh) = (shapes.name(id), shapes.mesh(id));
             crate::solid::check(name, mesh)?;
             let mesh = mesh.with_welded_vertices();
+            let positions: Vec<DVec3> = mesh.positions.iter().map(|p| p.as_dvec3()).collect();
+            let closure = back_faces::closure(&positions, &mesh.triangles);
+            let outward = closure.as_ref().map_or_else(
+                || back_faces::outward_guess(&positions, &mesh.triangles),
+                |c| c.outward,
+            );
             meshes.push(RenderMesh {
-                positions: mesh.positions.iter().map(|p| p.as_dvec3()).collect(),
+                positions,
                 triangles: mesh.triangles,
+                closure,
+                outward,
             });
             names.push(name.to_string());
         }
@@ -96,6 +116,17 @@ impl RenderMeshes {
     fn terminal(&self, inst: &Instance) -> u16 {
         let t = if self.by_node { inst.node } else { inst.shape };
         t.min(self.names.len().saturating_sub(1) as u16)
+    }
+
+    /// Whether renders skip shape `id`'s back faces where that is proven
+    /// to change no pixel: its holes, once capped, must bound solids (a
+    /// closed, consistently wound surface without self-intersections).
+    /// A self-intersecting mesh, such as the paper's leaf, draws every face.
+    #[must_use]
+    pub fn skips_back_faces(&self, id: u16) -> bool {
+        self.meshes
+            .get(id as usize)
+            .is_some_and(|m| m.closure.is_some())
     }
 
     /// Number of shapes.
@@ -154,6 +185,12 @@ pub struct Renderer {
     clip2: Vec<DVec3>,
     hull: Vec<DVec2>,
     edges: Vec<Edge>,
+    /// The pixel boxes where the current instance's holes are seen.
+    holes: Vec<(DVec2, DVec2)>,
+    /// The current instance's triangles facing away, drawn last.
+    later: Vec<u32>,
+    /// Whether back faces are skipped where that is exact (the default).
+    all_faces: bool,
     /// Instances by increasing depth of their origin.
     order: Vec<(f64, u32)>,
 }
@@ -163,6 +200,14 @@ impl Renderer {
     #[must_use]
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// Draws every face, back faces included, even where skipping them is
+    /// proven not to change the G-buffer (for checking that proof; slower).
+    #[must_use]
+    pub fn drawing_all_faces(mut self) -> Self {
+        self.all_faces = true;
+        self
     }
 
     /// Renders `instances` of `meshes` seen by `camera` into the G-buffer
@@ -233,6 +278,9 @@ impl Renderer {
         let proj = view.projector();
         let (near, far) = (camera.near, camera.far);
         let in_range = |v: &DVec3| v.z >= near && v.z <= far;
+        // Back faces may be skipped only if every ray starts outside the
+        // mesh's hull: all of it strictly beyond the near plane.
+        let mut beyond_near = true;
         let n = mesh.positions.len();
         self.view.clear();
         self.pixels.clear();
@@ -247,6 +295,7 @@ impl Renderer {
             let px = proj.to_pixel(v);
             finite &= v.is_finite();
             all_in &= in_range(&v);
+            beyond_near &= v.z > near;
             lo = lo.min(px);
             hi = hi.max(px);
             zmin = zmin.min(v.z);
@@ -268,60 +317,180 @@ impl Renderer {
             }
             bounds = Some(b);
         }
-        for t in &mesh.triangles {
-            let [a, b, c] = t.map(|i| self.view[i as usize]);
-            if bounds.is_some() {
-                // The same test per triangle, against the tiles as they were
-                // before this instance (farthest keys only shrink as faces
-                // are drawn, so older tiles are conservative).
-                let [pa, pb, pc] = t.map(|i| self.pixels[i as usize]);
-                let pbox = self
-                    .gbuffer
-                    .pixel_box(pa.min(pb).min(pc), pa.max(pb).max(pc));
-                let zmin = a.z.min(b.z).min(c.z);
-                if self.gbuffer.hidden(pbox, key_of(zmin, perspective)) {
-                    continue;
+        // The sign that makes `(b − a) × (c − a)` an outward normal in view
+        // space; whether back faces away from the holes can be skipped.
+        let det = m.matrix3.determinant();
+        let turn = if det.is_finite() && det != 0.0 {
+            det.signum()
+        } else {
+            0.0
+        };
+        let cull = match &mesh.closure {
+            Some(closure) if all_in && beyond_near && turn != 0.0 && !self.all_faces => {
+                self.holes.clear();
+                for hole in &closure.holes {
+                    let (mut lo, mut hi) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
+                    for p in hole {
+                        let px = proj.to_pixel(m.transform_point3(*p));
+                        lo = lo.min(px);
+                        hi = hi.max(px);
+                    }
+                    // A pixel of margin for the rounding of the crossings.
+                    self.holes.push((lo - 1.0, hi + 1.0));
                 }
+                true
             }
-            // The face and its depth plane are made on its first span: many
-            // triangles cover no pixel centre.
-            let mut made: Option<(u32, Plane)> = None;
-            let gbuffer = &mut self.gbuffer;
-            let mut f = |s: crate::PixelSpan| {
-                let (index, plane) = *made.get_or_insert_with(|| {
-                    let raw = (b - a).cross(c - a);
-                    let plane =
-                        Plane::new(raw, [a, b, c], (cx, cy, sx, sy), perspective, near, far);
-                    (
-                        gbuffer.push_face(Face::new(raw, [a, b, c], terminal, perspective)),
-                        plane,
-                    )
-                });
-                gbuffer.span(s, index, &plane);
-            };
-            if in_range(&a) && in_range(&b) && in_range(&c) {
-                let px = t.map(|i| self.pixels[i as usize]);
-                fill_triangle(&camera, px, &mut f);
-                continue;
+            _ => false,
+        };
+        let ctx = Draw {
+            camera,
+            constants: (cx, cy, sx, sy),
+            perspective,
+            terminal,
+            bounds,
+            outward: mesh.outward * turn,
+            cull,
+        };
+        // Faces turned toward the eye first: they hide the others, which
+        // the occlusion tests then skip.
+        let mut later = std::mem::take(&mut self.later);
+        later.clear();
+        for (i, t) in mesh.triangles.iter().enumerate() {
+            match self.facing(&ctx, *t) {
+                Facing::Toward => self.triangle(&ctx, *t),
+                Facing::Away => later.push(i as u32),
+                Facing::Hidden => {}
             }
-            self.clip.clear();
-            self.clip.extend([a, b, c]);
-            clip_depth(&mut self.clip, &mut self.clip2, near, far);
-            if self.clip.len() < 3 {
-                continue;
-            }
-            self.hull.clear();
-            self.hull
-                .extend(self.clip.iter().map(|v| proj.to_pixel(*v)));
-            fill_convex(&camera, &self.hull, &mut self.edges, &mut f);
         }
+        for &i in &later {
+            self.triangle(&ctx, mesh.triangles[i as usize]);
+        }
+        self.later = later;
         if let Some(b) = bounds {
             self.gbuffer.update_tiles(b);
         } else {
             self.gbuffer.forget_tiles();
         }
     }
+
+    /// Whether triangle `t` of the instance being drawn faces the eye, or
+    /// away from it (drawn after those that face it), or can be skipped.
+    fn facing(&self, ctx: &Draw, t: [u32; 3]) -> Facing {
+        if ctx.outward == 0.0 {
+            return Facing::Toward;
+        }
+        let [a, b, c] = t.map(|i| self.view[i as usize]);
+        let raw = (b - a).cross(c - a) * ctx.outward;
+        let (away, scale) = if ctx.perspective {
+            (raw.dot(a), a.length())
+        } else {
+            (raw.z, 1.0)
+        };
+        // With a margin: faces seen nearly edge on count as facing the eye.
+        let margin = 1e-9 * raw.length() * scale;
+        if away.partial_cmp(&margin) != Some(std::cmp::Ordering::Greater) {
+            return Facing::Toward;
+        }
+        if ctx.cull {
+            // Away from every hole, a back face is never the nearest
+            // surface (see `back_faces`).
+            let [pa, pb, pc] = t.map(|i| self.pixels[i as usize]);
+            let (lo, hi) = (pa.min(pb).min(pc), pa.max(pb).max(pc));
+            let seen_through = self
+                .holes
+                .iter()
+                .any(|(hlo, hhi)| lo.x <= hhi.x && hi.x >= hlo.x && lo.y <= hhi.y && hi.y >= hlo.y);
+            if !seen_through {
+                return Facing::Hidden;
+            }
+        }
+        Facing::Away
+    }
+
+    /// Draws triangle `t` of the instance being drawn, unless the occlusion
+    /// tests show that it is hidden.
+    fn triangle(&mut self, ctx: &Draw, t: [u32; 3]) {
+        let camera = &ctx.camera;
+        let (near, far, perspective) = (camera.near, camera.far, ctx.perspective);
+        let in_range = |v: &DVec3| v.z >= near && v.z <= far;
+        let [a, b, c] = t.map(|i| self.view[i as usize]);
+        if ctx.bounds.is_some() {
+            // The instance's test per triangle: against the tiles as they
+            // were before this instance (farthest keys only shrink as faces
+            // are drawn, so older tiles are conservative), then for small
+            // triangles against the pixels themselves.
+            let [pa, pb, pc] = t.map(|i| self.pixels[i as usize]);
+            let pbox = self
+                .gbuffer
+                .pixel_box(pa.min(pb).min(pc), pa.max(pb).max(pc));
+            let key = key_of(a.z.min(b.z).min(c.z), perspective);
+            if self.gbuffer.hidden(pbox, key) {
+                return;
+            }
+            let (x0, y0, x1, y1) = pbox;
+            if (x1 - x0 + 1) * (y1 - y0 + 1) <= SMALL && self.gbuffer.hidden_pixels(pbox, key) {
+                return;
+            }
+        }
+        // The face and its depth plane are made on its first span: many
+        // triangles cover no pixel centre.
+        let mut made: Option<(u32, Plane)> = None;
+        let gbuffer = &mut self.gbuffer;
+        let mut f = |s: crate::PixelSpan| {
+            let (index, plane) = *made.get_or_insert_with(|| {
+                let raw = (b - a).cross(c - a);
+                let plane = Plane::new(raw, [a, b, c], ctx.constants, perspective, near, far);
+                (
+                    gbuffer.push_face(Face::new(raw, [a, b, c], ctx.terminal, perspective)),
+                    plane,
+                )
+            });
+            gbuffer.span(s, index, &plane);
+        };
+        if in_range(&a) && in_range(&b) && in_range(&c) {
+            let px = t.map(|i| self.pixels[i as usize]);
+            fill_triangle(camera, px, &mut f);
+            return;
+        }
+        self.clip.clear();
+        self.clip.extend([a, b, c]);
+        clip_depth(&mut self.clip, &mut self.clip2, near, far);
+        if self.clip.len() < 3 {
+            return;
+        }
+        let proj = camera.projector();
+        self.hull.clear();
+        self.hull
+            .extend(self.clip.iter().map(|v| proj.to_pixel(*v)));
+        fill_convex(camera, &self.hull, &mut self.edges, &mut f);
+    }
 }
+
+/// What `Renderer::triangle` needs of the instance being drawn.
+struct Draw {
+    camera: Camera,
+    constants: (f64, f64, f64, f64),
+    perspective: bool,
+    terminal: u16,
+    /// The instance's pixel box, if it is wholly in the depth range (then
+    /// its triangles get occlusion tests).
+    bounds: Option<gbuffer::PixelBox>,
+    /// The sign that turns `(b − a) × (c − a)` outward (0: unknown).
+    outward: f64,
+    /// Whether back faces away from the holes are skipped.
+    cull: bool,
+}
+
+/// Where a triangle faces (see `Renderer::facing`).
+enum Facing {
+    Toward,
+    Away,
+    Hidden,
+}
+
+/// Triangles whose pixel box has at most this many pixels get a
+/// pixel-by-pixel occlusion test.
+const SMALL: usize = 64;
 
 /// A triangle's depth *key* at pixel centres, linear in the pixel
 /// coordinates: `key = a + b·x + c·y`, smaller is nearer. The key is

@@ -1,0 +1,526 @@
+//! Which back faces a render may skip without changing a pixel.
+//!
+//! A mesh whose holes, once capped, make the boundary of solids (a closed,
+//! consistently oriented surface without self-intersections, each part
+//! wound the same way) has winding number `w ≥ 0` everywhere, `0` outside
+//! its convex hull. A ray that starts outside the hull has `w = 0` until its
+//! first crossing; crossing a back face (the outward normal turned away from
+//! the ray's origin) takes `w` to `−1`. So the first surface such a ray meets
+//! is a front face, or the ray went through a cap first: a back face can be
+//! the nearest surface only at pixels where a hole is seen. The renderer
+//! skips back faces whose pixels are all away from every hole's projection
+//! (see `Renderer::draw`), so covered pixels and depths stay exactly what
+//! drawing every face gives.
+//!
+//! [`closure`] certifies a mesh with exact orientation predicates (Shewchuk's,
+//! from the `robust` crate): an answer of `Some` is a proof, while a mesh it
+//! cannot prove (non-manifold, self-intersecting, touching itself, too
+//! large to check) gets `None` and every face drawn.
+//!
+//! Ties are the one exception, as for any two rules: a pixel centre exactly
+//! on a silhouette *edge* is covered by the front face iff by the back face
+//! (they share the edge's crossing and lie on the same side of it), but one
+//! exactly on a silhouette *vertex* may be covered by a back face alone.
+
+use std::collections::HashMap;
+
+use glam::DVec3;
+use robust::{Coord, Coord3D, orient2d, orient3d};
+
+/// What makes a mesh's back faces skippable: its orientation and its holes.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Closure {
+    /// `+1` if a triangle `[a, b, c]`'s outward normal is `(b − a) × (c − a)`,
+    /// `−1` if it is the opposite.
+    pub outward: f64,
+    /// Each boundary loop's vertices in model space: back faces are drawn
+    /// where these project (their caps lie within the loops' convex hulls).
+    pub holes: Vec<Vec<DVec3>>,
+}
+
+/// Meshes with more triangles than this are not checked (every face drawn).
+const MAX_TRIANGLES: usize = 200_000;
+
+/// At most this many overlapping bounding-box pairs a triangle are tested
+/// before giving up (every face drawn).
+const PAIRS_PER_TRIANGLE: usize = 64;
+
+/// The proof that `triangles` over `positions` (welded: a shared edge has
+/// the same vertex indices on both sides) bound solids once their holes are
+/// capped, or `None`.
+pub(crate) fn closure(positions: &[DVec3], triangles: &[[u32; 3]]) -> Option<Closure> {
+    if triangles.is_empty() || triangles.len() > MAX_TRIANGLES {
+        return None;
+    }
+    if !positions.iter().all(|p| p.is_finite()) {
+        return None;
+    }
+    // Every directed edge once: a manifold, consistently oriented surface.
+    let mut edges: HashMap<(u32, u32), u32> = HashMap::with_capacity(3 * triangles.len());
+    for (t, &[a, b, c]) in triangles.iter().enumerate() {
+        if a == b || b == c || c == a || [a, b, c].iter().any(|&i| i as usize >= positions.len()) {
+            return None;
+        }
+        for e in [(a, b), (b, c), (c, a)] {
+            if edges.insert(e, t as u32).is_some() {
+                return None;
+            }
+        }
+    }
+    // Boundary edges (no opposite twin) chained into loops, capped by fans
+    // from their centroids.
+    let mut next: HashMap<u32, u32> = HashMap::new();
+    for &(a, b) in edges.keys() {
+        if !edges.contains_key(&(b, a)) && next.insert(a, b).is_some() {
+            return None; // two boundary edges leave one vertex
+        }
+    }
+    let mut points = positions.to_vec();
+    let mut tris = triangles.to_vec();
+    let mut holes = Vec::new();
+    let mut starts: Vec<u32> = next.keys().copied().collect();
+    starts.sort_unstable();
+    let mut done = std::collections::HashSet::new();
+    for start in starts {
+        if done.contains(&start) {
+            continue;
+        }
+        let mut ring = vec![start];
+        let mut v = *next.get(&start)?;
+        while v != start {
+            if ring.len() > next.len() || !done.insert(v) {
+                return None;
+            }
+            ring.push(v);
+            v = *next.get(&v)?;
+        }
+        done.insert(start);
+        let loop_points: Vec<DVec3> = ring.iter().map(|&i| positions[i as usize]).collect();
+        let centre = loop_points.iter().sum::<DVec3>() / loop_points.len() as f64;
+        let c = points.len() as u32;
+        points.push(centre);
+        for k in 0..ring.len() {
+            let (a, b) = (ring[k], ring[(k + 1) % ring.len()]);
+            tris.push([c, b, a]);
+        }
+        holes.push(loop_points);
+    }
+    let outward = orientation(&points, &tris)?;
+    embedded(&points, &tris).then_some(Closure { outward, holes })
+}
+
+/// The sign of the volume `triangles` enclose (`+1` if `(b − a) × (c − a)`
+/// points out), or 0 if too small to tell: only a guess of which side a
+/// mesh that is not a [`closure`] shows (for drawing order, never culling).
+pub(crate) fn outward_guess(positions: &[DVec3], triangles: &[[u32; 3]]) -> f64 {
+    let Some(centre) = positions.iter().copied().reduce(|a, b| a + b) else {
+        return 0.0;
+    };
+    let centre = centre / positions.len() as f64;
+    let (mut v, mut size) = (0.0, 0.0);
+    for t in triangles {
+        let [a, b, c] = t.map(|i| positions.get(i as usize).copied().unwrap_or(centre) - centre);
+        let term = a.dot(b.cross(c));
+        v += term;
+        size += term.abs();
+    }
+    if v.abs() > 1e-3 * size {
+        v.signum()
+    } else {
+        0.0
+    }
+}
+
+/// `+1` or `−1` if every connected part of the closed surface `tris` encloses
+/// a volume of that sign; `None` if the signs differ or one is too small to
+/// tell.
+fn orientation(points: &[DVec3], tris: &[[u32; 3]]) -> Option<f64> {
+    // Parts: triangles joined through shared edges.
+    let mut parent: Vec<u32> = (0..tris.len() as u32).collect();
+    fn find(parent: &mut [u32], mut i: u32) -> u32 {
+        while parent[i as usize] != i {
+            parent[i as usize] = parent[parent[i as usize] as usize];
+            i = parent[i as usize];
+        }
+        i
+    }
+    let mut owner: HashMap<(u32, u32), u32> = HashMap::with_capacity(3 * tris.len());
+    for (t, &[a, b, c]) in tris.iter().enumerate() {
+        for (u, v) in [(a, b), (b, c), (c, a)] {
+            if let Some(&s) = owner.get(&(v, u)) {
+                let (x, y) = (find(&mut parent, s), find(&mut parent, t as u32));
+                parent[x as usize] = y;
+            }
+            owner.insert((u, v), t as u32);
+        }
+    }
+    let centre = points.iter().sum::<DVec3>() / points.len() as f64;
+    // Per part: the signed volume and the sum of its terms' magnitudes.
+    let mut volume: HashMap<u32, (f64, f64)> = HashMap::new();
+    for (t, tri) in tris.iter().enumerate() {
+        let [a, b, c] = tri.map(|i| points[i as usize] - centre);
+        let term = a.dot(b.cross(c));
+        let e = volume.entry(find(&mut parent, t as u32)).or_default();
+        e.0 += term;
+        e.1 += term.abs();
+    }
+    let mut sign = None;
+    for &(v, size) in volume.values() {
+        // (NaN sizes fail too.)
+        if v.abs().partial_cmp(&(1e-9 * size)) != Some(std::cmp::Ordering::Greater) {
+            return None;
+        }
+        let s = v.signum();
+        if *sign.get_or_insert(s) != s {
+            return None;
+        }
+    }
+    sign
+}
+
+/// Whether no two triangles of `tris` meet except along the edges and at
+/// the vertices they share (exactly; `false` when unsure or over budget).
+fn embedded(points: &[DVec3], tris: &[[u32; 3]]) -> bool {
+    let boxes: Vec<(DVec3, DVec3)> = tris
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| points[i as usize]);
+            (a.min(b).min(c), a.max(b).max(c))
+        })
+        .collect();
+    let mut order: Vec<u32> = (0..tris.len() as u32).collect();
+    order.sort_unstable_by(|&i, &j| boxes[i as usize].0.x.total_cmp(&boxes[j as usize].0.x));
+    let mut budget = PAIRS_PER_TRIANGLE * tris.len();
+    for (k, &i) in order.iter().enumerate() {
+        let (lo, hi) = boxes[i as usize];
+        for &j in &order[k + 1..] {
+            let (lo2, hi2) = boxes[j as usize];
+            if lo2.x > hi.x {
+                break;
+            }
+            if lo2.y > hi.y || hi2.y < lo.y || lo2.z > hi.z || hi2.z < lo.z {
+                continue;
+            }
+            if budget == 0 {
+                return false;
+            }
+            budget -= 1;
+            if !apart(points, tris[i as usize], tris[j as usize]) {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+fn c3(p: DVec3) -> Coord3D<f64> {
+    Coord3D {
+        x: p.x,
+        y: p.y,
+        z: p.z,
+    }
+}
+
+/// The sign of the exact orientation of `d` against the plane `a b c`.
+fn side(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> i8 {
+    let o = orient3d(c3(a), c3(b), c3(c), c3(d));
+    (o > 0.0) as i8 - (o < 0.0) as i8
+}
+
+/// Whether triangles `s` and `t` meet only where they share vertices.
+fn apart(points: &[DVec3], s: [u32; 3], t: [u32; 3]) -> bool {
+    let shared: Vec<u32> = s.iter().copied().filter(|v| t.contains(v)).collect();
+    let p = |i: u32| points[i as usize];
+    let others = |tri: [u32; 3]| -> Vec<DVec3> {
+        tri.iter()
+            .copied()
+            .filter(|v| !shared.contains(v))
+            .map(p)
+            .collect()
+    };
+    let (os, ot) = (others(s), others(t));
+    match shared.len() {
+        // Two triangles on one edge `u v`, third vertices `x` and `y`: they
+        // meet only on the edge unless coplanar with `x`, `y` on one side.
+        2 => {
+            let (u, v, x, y) = (p(shared[0]), p(shared[1]), os[0], ot[0]);
+            side(u, v, x, y) != 0 || {
+                let axis = dominant_axis((v - u).cross(x - u));
+                let sx = side2(u, v, x, axis);
+                let sy = side2(u, v, y, axis);
+                sx * sy < 0
+            }
+        }
+        // One vertex `v`: apart if either triangle's far edge lies strictly
+        // on one side of the other's plane.
+        1 => {
+            let v = p(shared[0]);
+            let strictly = |a: DVec3, b: DVec3, x: DVec3, y: DVec3| {
+                let (sx, sy) = (side(v, a, b, x), side(v, a, b, y));
+                sx != 0 && sx == sy
+            };
+            if strictly(os[0], os[1], ot[0], ot[1]) || strictly(ot[0], ot[1], os[0], os[1]) {
+                return true;
+            }
+            // Otherwise `t` crosses the plane of `s` along a segment from
+            // `v` to a point `x` of its far edge: they meet beyond `v` iff
+            // `x` lies in the corner of `s` at `v`. With `q` a far vertex of
+            // `t` off that plane, the plane `v p q` cuts the plane of `s`
+            // along `v p`, and `x` (between `q` and the other far vertex
+            // `r`) is on the side of `r`.
+            let [p1, p2] = [os[0], os[1]];
+            let (q, r) = match (side(v, p1, p2, ot[0]), side(v, p1, p2, ot[1])) {
+                (0, 0) => (None, ot[1]),
+                (0, _) => (Some(ot[1]), ot[0]),
+                _ => (Some(ot[0]), ot[1]),
+            };
+            if let Some(q) = q {
+                let f = |p: DVec3, x: DVec3| side(v, p, q, x);
+                let inside = f(p1, r) * f(p1, p2) >= 0 && f(p2, r) * f(p2, p1) >= 0;
+                return !inside;
+            }
+            // Coplanar: apart iff a line along an edge `v a` has the other
+            // triangle's far vertices strictly outside, or on the line but
+            // on the far side of `v` from `a`.
+            if side(v, os[0], os[1], ot[0]) != 0 || side(v, os[0], os[1], ot[1]) != 0 {
+                return false;
+            }
+            let axis = dominant_axis((os[0] - v).cross(os[1] - v));
+            let outside = |a: DVec3, inner: DVec3, other: &[DVec3]| {
+                let s = side2(v, a, inner, axis);
+                s != 0
+                    && other.iter().all(|&x| match side2(v, a, x, axis) {
+                        0 => behind(v, a, x),
+                        t => t == -s,
+                    })
+            };
+            outside(os[0], os[1], &ot)
+                || outside(os[1], os[0], &ot)
+                || outside(ot[0], ot[1], &os)
+                || outside(ot[1], ot[0], &os)
+        }
+        0 => disjoint(os.try_into().unwrap(), ot.try_into().unwrap()),
+        _ => false,
+    }
+}
+
+/// For `x` on the line through `v` and `a` (`a ≠ v`): whether it lies
+/// strictly on the other side of `v` (exact: compares coordinates).
+fn behind(v: DVec3, a: DVec3, x: DVec3) -> bool {
+    let k = (0..3).find(|&k| a[k] != v[k]).unwrap_or(0);
+    (a[k] > v[k] && x[k] < v[k]) || (a[k] < v[k] && x[k] > v[k])
+}
+
+/// Whether two triangles without common vertices are disjoint (touching
+/// counts as meeting).
+fn disjoint(s: [DVec3; 3], t: [DVec3; 3]) -> bool {
+    let ds = s.map(|x| side(t[0], t[1], t[2], x));
+    let dt = t.map(|x| side(s[0], s[1], s[2], x));
+    let one_side = |d: [i8; 3]| d[0] != 0 && d[0] == d[1] && d[1] == d[2];
+    if one_side(ds) || one_side(dt) {
+        return true;
+    }
+    if ds == [0; 3] {
+        // Coplanar: apart iff some edge has the other triangle strictly outside.
+        let axis = dominant_axis((s[1] - s[0]).cross(s[2] - s[0]));
+        let separates = |tri: [DVec3; 3], other: [DVec3; 3]| {
+            (0..3).any(|k| {
+                let (a, b, c) = (tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3]);
+                let inner = side2(a, b, c, axis);
+                inner != 0 && other.iter().all(|&x| side2(a, b, x, axis) == -inner)
+            })
+        };
+        return separates(s, t) || separates(t, s);
+    }
+    // Not coplanar: two triangles meet iff an edge of one meets the other.
+    (0..3).all(|k| {
+        !segment_may_meet(s[k], s[(k + 1) % 3], t) && !segment_may_meet(t[k], t[(k + 1) % 3], s)
+    })
+}
+
+/// Whether segment `a b` may meet triangle `t` (`true` when touching).
+fn segment_may_meet(a: DVec3, b: DVec3, t: [DVec3; 3]) -> bool {
+    let (sa, sb) = (side(t[0], t[1], t[2], a), side(t[0], t[1], t[2], b));
+    if sa != 0 && sa == sb {
+        return false;
+    }
+    if sa == 0 && sb == 0 {
+        // In the triangle's plane: apart iff an edge line of the triangle
+        // has the segment strictly outside, or the segment's line has the
+        // whole triangle strictly on one side.
+        let axis = dominant_axis((t[1] - t[0]).cross(t[2] - t[0]));
+        let outside_edge = (0..3).any(|k| {
+            let (p, q, r) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
+            let inner = side2(p, q, r, axis);
+            inner != 0 && side2(p, q, a, axis) == -inner && side2(p, q, b, axis) == -inner
+        });
+        let s = t.map(|x| side2(a, b, x, axis));
+        let beside_line = s[0] != 0 && s[0] == s[1] && s[1] == s[2];
+        return !(outside_edge || beside_line);
+    }
+    let s = [
+        side(a, b, t[0], t[1]),
+        side(a, b, t[1], t[2]),
+        side(a, b, t[2], t[0]),
+    ];
+    // The line through `a b` passes outside the triangle iff it is on
+    // strictly different sides of two of its edges.
+    !(s.contains(&1) && s.contains(&-1))
+}
+
+/// The coordinate axis along which a normal is largest (the plane projects
+/// onto the other two without collapsing).
+fn dominant_axis(n: DVec3) -> usize {
+    let n = n.abs();
+    if n.x >= n.y && n.x >= n.z {
+        0
+    } else if n.y >= n.z {
+        1
+    } else {
+        2
+    }
+}
+
+/// The sign of the exact 2-D orientation of `c` against `a b`, dropping
+/// coordinate `axis`.
+fn side2(a: DVec3, b: DVec3, c: DVec3, axis: usize) -> i8 {
+    let drop = |p: DVec3| match axis {
+        0 => Coord { x: p.y, y: p.z },
+        1 => Coord { x: p.z, y: p.x },
+        _ => Coord { x: p.x, y: p.y },
+    };
+    let o = orient2d(drop(a), drop(b), drop(c));
+    (o > 0.0) as i8 - (o < 0.0) as i8
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cube() -> (Vec<DVec3>, Vec<[u32; 3]>) {
+        let m = crate::mesh::Mesh::unit_cube().with_welded_vertices();
+        (
+            m.positions.iter().map(|p| p.as_dvec3()).collect(),
+            m.triangles,
+        )
+    }
+
+    #[test]
+    fn a_closed_cube_is_certified_with_its_orientation() {
+        let (p, t) = cube();
+        let c = closure(&p, &t).expect("a cube bounds a solid");
+        assert!(c.holes.is_empty());
+        let flipped: Vec<[u32; 3]> = t.iter().map(|&[a, b, c]| [a, c, b]).collect();
+        let f = closure(&p, &flipped).expect("so does an inside-out cube");
+        assert_eq!(f.outward, -c.outward);
+    }
+
+    #[test]
+    fn an_open_cube_is_certified_with_one_hole() {
+        let (p, mut t) = cube();
+        t.truncate(10); // one face (two triangles) removed
+        let c = closure(&p, &t).expect("capped, the open cube bounds a solid");
+        assert_eq!(c.holes.len(), 1);
+        assert_eq!(c.holes[0].len(), 4);
+    }
+
+    #[test]
+    fn crossing_or_misoriented_meshes_are_refused() {
+        let (p, t) = cube();
+        // Two interpenetrating cubes in one mesh.
+        let n = p.len() as u32;
+        let mut p2 = p.clone();
+        p2.extend(p.iter().map(|v| *v + DVec3::splat(0.3)));
+        let mut t2 = t.clone();
+        t2.extend(t.iter().map(|tri| tri.map(|i| i + n)));
+        assert!(closure(&p2, &t2).is_none(), "self-intersecting");
+        // Two disjoint cubes: fine; one of them inside out: refused.
+        let mut p3 = p.clone();
+        p3.extend(p.iter().map(|v| *v + DVec3::splat(3.0)));
+        assert!(closure(&p3, &t2).is_some());
+        let mut t4 = t.clone();
+        t4.extend(t.iter().map(|&[a, b, c]| [a + n, c + n, b + n]));
+        assert!(closure(&p3, &t4).is_none(), "parts wound both ways");
+        // One triangle flipped: an edge used twice in one direction.
+        let mut t5 = t.clone();
+        t5[0] = [t5[0][0], t5[0][2], t5[0][1]];
+        assert!(closure(&p, &t5).is_none());
+        // A lone sheet: its cap is itself, a zero volume.
+        assert!(closure(&p, &t[..2]).is_none());
+    }
+
+    #[test]
+    fn triangles_sharing_a_vertex_meet_iff_one_enters_the_others_corner() {
+        // s: a corner at the origin in the plane z = 0, opening toward +x.
+        let points = [
+            DVec3::ZERO,
+            DVec3::new(1.0, -0.5, 0.0),
+            DVec3::new(1.0, 0.5, 0.0),
+            // A wall through the origin crossing z = 0 along the x axis:
+            // into the corner when it leans toward +x, beside it toward −x.
+            DVec3::new(1.0, 0.0, -1.0),
+            DVec3::new(0.5, 0.0, 1.0),
+            DVec3::new(-1.0, 0.0, -1.0),
+            DVec3::new(-0.5, 0.0, 1.0),
+            // A second corner in the same plane, opening toward −x.
+            DVec3::new(-1.0, -0.5, 0.0),
+            DVec3::new(-1.0, 0.5, 0.0),
+            // A third, overlapping the first.
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(0.5, 1.0, 0.0),
+        ];
+        assert!(!apart(&points, [0, 1, 2], [0, 3, 4]));
+        assert!(apart(&points, [0, 1, 2], [0, 5, 6]));
+        assert!(apart(&points, [0, 1, 2], [0, 7, 8]));
+        assert!(
+            !apart(&points, [0, 1, 2], [0, 9, 10]),
+            "overlapping, coplanar"
+        );
+    }
+
+    #[test]
+    fn touching_triangles_count_as_meeting() {
+        let tri = |a: [f64; 3], b: [f64; 3], c: [f64; 3]| {
+            [DVec3::from(a), DVec3::from(b), DVec3::from(c)]
+        };
+        let s = tri([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+        // Crossing through the interior.
+        assert!(!disjoint(
+            s,
+            tri([0.2, 0.2, -1.0], [0.2, 0.2, 1.0], [0.3, 0.25, 1.0])
+        ));
+        // A vertex exactly on the other's interior.
+        assert!(!disjoint(
+            s,
+            tri([0.2, 0.2, 0.0], [0.2, 0.2, 1.0], [0.3, 0.25, 1.0])
+        ));
+        // Above, apart.
+        assert!(disjoint(
+            s,
+            tri([0.2, 0.2, 1e-12], [0.2, 0.2, 1.0], [0.3, 0.25, 1.0])
+        ));
+        // Coplanar: overlapping, then apart.
+        assert!(!disjoint(
+            s,
+            tri([0.2, 0.2, 0.0], [2.0, 0.2, 0.0], [0.2, 2.0, 0.0])
+        ));
+        assert!(disjoint(
+            s,
+            tri([0.6, 0.6, 0.0], [2.0, 0.6, 0.0], [0.6, 2.0, 0.0])
+        ));
+        // An edge in the other's plane, beside it, then across it.
+        assert!(disjoint(
+            s,
+            tri([1.0, 1.0, 0.0], [2.0, 0.5, 0.0], [1.5, 1.0, 1.0])
+        ));
+        assert!(!disjoint(
+            s,
+            tri([0.1, 0.1, 0.0], [2.0, 0.5, 0.0], [1.5, 1.0, 1.0])
+        ));
+        // Crossing the plane beside the triangle, not through it.
+        assert!(disjoint(
+            s,
+            tri([2.0, 2.0, -1.0], [2.0, 2.0, 1.0], [3.0, 2.0, 0.0])
+        ));
+    }
+}
