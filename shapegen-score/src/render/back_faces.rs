@@ -109,28 +109,6 @@ pub(crate) fn closure(positions: &[DVec3], triangles: &[[u32; 3]]) -> Option<Clo
     embedded(&points, &tris).then_some(Closure { outward, holes })
 }
 
-/// The sign of the volume `triangles` enclose (`+1` if `(b − a) × (c − a)`
-/// points out), or 0 if too small to tell: only a guess of which side a
-/// mesh that is not a [`closure`] shows (for drawing order, never culling).
-pub(crate) fn outward_guess(positions: &[DVec3], triangles: &[[u32; 3]]) -> f64 {
-    let Some(centre) = positions.iter().copied().reduce(|a, b| a + b) else {
-        return 0.0;
-    };
-    let centre = centre / positions.len() as f64;
-    let (mut v, mut size) = (0.0, 0.0);
-    for t in triangles {
-        let [a, b, c] = t.map(|i| positions.get(i as usize).copied().unwrap_or(centre) - centre);
-        let term = a.dot(b.cross(c));
-        v += term;
-        size += term.abs();
-    }
-    if v.abs() > 1e-3 * size {
-        v.signum()
-    } else {
-        0.0
-    }
-}
-
 /// `+1` or `−1` if every connected part of the closed surface `tris` encloses
 /// a volume of that sign; `None` if the signs differ or one is too small to
 /// tell.

@@ -171,20 +171,6 @@ impl GBuffer {
         true
     }
 
-    /// Whether every pixel of `b` holds a key at most `k` (less the margin
-    /// of [`hidden`](Self::hidden)), read pixel by pixel: finer than the
-    /// tiles, and up to date within an instance.
-    pub(crate) fn hidden_pixels(&self, b: PixelBox, k: f64) -> bool {
-        let (x0, y0, x1, y1) = b;
-        let limit = k - 1e-6 * k.abs();
-        let w = self.width as usize;
-        (y0..=y1).all(|y| {
-            self.depth[y * w + x0..=y * w + x1]
-                .iter()
-                .all(|&d| d <= limit)
-        })
-    }
-
     /// Recomputes the farthest key of the tiles overlapping `b`.
     pub(crate) fn update_tiles(&mut self, b: PixelBox) {
         let (x0, y0, x1, y1) = b;

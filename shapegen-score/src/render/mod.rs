@@ -14,8 +14,7 @@
 //! Back faces are skipped where that provably changes nothing: for meshes
 //! that bound solids once their holes are capped, seen from outside their
 //! hull, away from their holes (`back_faces` holds the proof and the
-//! exact check). Each instance draws the faces turned toward the eye first,
-//! so that the occlusion tests skip more of the rest.
+//! exact check).
 //!
 //! - [`RenderMeshes`]: a generator's shape meshes prepared once;
 //! - [`Renderer`]: working memory; [`Renderer::render`] fills a [`GBuffer`],
@@ -50,8 +49,7 @@ struct RenderMesh {
     triangles: Vec<[u32; 3]>,
     /// Present if the mesh's back faces can be skipped (see `back_faces`).
     closure: Option<back_faces::Closure>,
-    /// The sign that turns `(b − a) × (c − a)` outward, as far as the
-    /// enclosed volume tells (exact if `closure` is present; 0 if unknown).
+    /// The sign that turns `(b − a) × (c − a)` outward (0 without `closure`).
     outward: f64,
 }
 
@@ -78,10 +76,7 @@ impl RenderMeshes {
             let mesh = mesh.with_welded_vertices();
             let positions: Vec<DVec3> = mesh.positions.iter().map(|p| p.as_dvec3()).collect();
             let closure = back_faces::closure(&positions, &mesh.triangles);
-            let outward = closure.as_ref().map_or_else(
-                || back_faces::outward_guess(&positions, &mesh.triangles),
-                |c| c.outward,
-            );
+            let outward = closure.as_ref().map_or(0.0, |c| c.outward);
             meshes.push(RenderMesh {
                 positions,
                 triangles: mesh.triangles,
@@ -351,8 +346,8 @@ impl Renderer {
             outward: mesh.outward * turn,
             cull,
         };
-        // Faces turned toward the eye first: they hide the others, which
-        // the occlusion tests then skip.
+        // Faces turned toward the eye first: they hide the back faces seen
+        // through holes, which the occlusion tests then may skip.
         let mut later = std::mem::take(&mut self.later);
         later.clear();
         for (i, t) in mesh.triangles.iter().enumerate() {
@@ -415,20 +410,15 @@ impl Renderer {
         let in_range = |v: &DVec3| v.z >= near && v.z <= far;
         let [a, b, c] = t.map(|i| self.view[i as usize]);
         if ctx.bounds.is_some() {
-            // The instance's test per triangle: against the tiles as they
+            // The instance's test per triangle, against the tiles as they
             // were before this instance (farthest keys only shrink as faces
-            // are drawn, so older tiles are conservative), then for small
-            // triangles against the pixels themselves.
+            // are drawn, so older tiles are conservative).
             let [pa, pb, pc] = t.map(|i| self.pixels[i as usize]);
             let pbox = self
                 .gbuffer
                 .pixel_box(pa.min(pb).min(pc), pa.max(pb).max(pc));
             let key = key_of(a.z.min(b.z).min(c.z), perspective);
             if self.gbuffer.hidden(pbox, key) {
-                return;
-            }
-            let (x0, y0, x1, y1) = pbox;
-            if (x1 - x0 + 1) * (y1 - y0 + 1) <= SMALL && self.gbuffer.hidden_pixels(pbox, key) {
                 return;
             }
         }
@@ -487,10 +477,6 @@ enum Facing {
     Away,
     Hidden,
 }
-
-/// Triangles whose pixel box has at most this many pixels get a
-/// pixel-by-pixel occlusion test.
-const SMALL: usize = 64;
 
 /// A triangle's depth *key* at pixel centres, linear in the pixel
 /// coordinates: `key = a + b·x + c·y`, smaller is nearer. The key is
