@@ -83,6 +83,22 @@ pub fn open_star() -> Mesh {
     m
 }
 
+/// Two cubes of side 0.6 crossing each other in one mesh: a closed,
+/// consistently wound, self-intersecting surface (like the paper's leaf,
+/// whose two sheets cross).
+pub fn crossing_cubes() -> Mesh {
+    let cube = Mesh::unit_cube().with_welded_vertices();
+    let n = cube.positions.len() as u32;
+    let mut positions: Vec<Vec3> = cube.positions.iter().map(|p| *p * 0.6 - 0.1).collect();
+    positions.extend(cube.positions.iter().map(|p| *p * 0.6 + 0.1));
+    let mut triangles = cube.triangles.clone();
+    triangles.extend(cube.triangles.iter().map(|t| t.map(|i| i + n)));
+    Mesh {
+        positions,
+        triangles,
+    }
+}
+
 /// A wavy open sheet, like a leaf blade: 8 × 8 quads, all one way round.
 pub fn wavy_sheet() -> Mesh {
     let n = 9u32;

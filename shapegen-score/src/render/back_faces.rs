@@ -1,39 +1,62 @@
-//! Which back faces a render may skip without changing a pixel.
+//! Which faces a render may skip without changing a pixel.
 //!
-//! A mesh whose holes, once capped, make the boundary of solids (a closed,
-//! consistently oriented surface without self-intersections, each part
-//! wound the same way) has winding number `w ≥ 0` everywhere, `0` outside
-//! its convex hull. A ray that starts outside the hull has `w = 0` until its
-//! first crossing; crossing a back face (the outward normal turned away from
-//! the ray's origin) takes `w` to `−1`. So the first surface such a ray meets
-//! is a front face, or the ray went through a cap first: a back face can be
-//! the nearest surface only at pixels where a hole is seen. The renderer
-//! skips back faces whose pixels are all away from every hole's projection
-//! (see `Renderer::draw`), so covered pixels and depths stay exactly what
-//! drawing every face gives.
+//! Cap a mesh's holes (a fan over each boundary loop) and it is a closed,
+//! consistently wound surface, with an integer winding number `w` off it:
+//! `0` outside its convex hull, changing by one across each face. A ray
+//! from outside the hull has `w = 0` until its first crossing, so a face can
+//! be the first one a ray meets only from a side where `w = 0`. For a face
+//! that no other face cuts, `w` is the same all along each side, and
+//! [`closure`] finds it once per mesh: each face records from which side
+//! (if any) it can be met first ([`FirstHit`]). A face seen from its other
+//! side, in pixels away from every hole's projection (a ray there crosses
+//! no cap), is never the nearest surface, and the renderer skips it (see
+//! `Renderer::facing`); covered pixels and depths stay exactly what drawing
+//! every face gives.
 //!
-//! [`closure`] certifies a mesh with exact orientation predicates (Shewchuk's,
-//! from the `robust` crate): an answer of `Some` is a proof, while a mesh it
-//! cannot prove (non-manifold, self-intersecting, touching itself, too
-//! large to check) gets `None` and every face drawn.
+//! For a mesh that bounds solids (no face cut by another, each part wound
+//! outward or each inward) this is back-face culling: `w ≥ 0` everywhere,
+//! so no face is met first from its inner side. A self-intersecting mesh (the paper's leaf, whose two
+//! sheets cross at hundreds of face pairs) keeps its faces that are cut, and
+//! gets the rest from the winding number at their centroids (`O(n²)`, for
+//! meshes of at most [`MAX_WINDING`] faces).
+//!
+//! Which faces meet is decided with exact orientation predicates
+//! (Shewchuk's, from the `robust` crate); a face whose winding number is not
+//! within 0.05 of the integer it must be is kept, as is every face of a mesh
+//! that is not manifold or consistently wound, or too large to check.
 //!
 //! Ties are the one exception, as for any two rules: a pixel centre exactly
-//! on a silhouette *edge* is covered by the front face iff by the back face
-//! (they share the edge's crossing and lie on the same side of it), but one
-//! exactly on a silhouette *vertex* may be covered by a back face alone.
+//! on a silhouette *edge* is covered by the face met first iff by the face
+//! skipped (they share the edge's crossing and lie on the same side of it),
+//! but one exactly on a silhouette *vertex* may be covered by a skipped face
+//! alone.
 
 use std::collections::HashMap;
 
 use glam::DVec3;
 use robust::{Coord, Coord3D, orient2d, orient3d};
 
-/// What makes a mesh's back faces skippable: its orientation and its holes.
+/// From which side of a face `[a, b, c]` (its normal `(b − a) × (c − a)`
+/// pointing to `Plus`) a ray from outside the mesh's hull can meet it first.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum FirstHit {
+    /// Only from the side its normal points to (a front face seen from there).
+    Plus,
+    /// Only from the other side.
+    Minus,
+    /// From neither (it is inside the mesh from both sides).
+    Neither,
+    /// Maybe from either (cut by another face, or not decided): always drawn.
+    Either,
+}
+
+/// What lets a render skip some of a mesh's faces: from where each can be
+/// met first, and the holes.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Closure {
-    /// `+1` if a triangle `[a, b, c]`'s outward normal is `(b − a) × (c − a)`,
-    /// `−1` if it is the opposite.
-    pub outward: f64,
-    /// Each boundary loop's vertices in model space: back faces are drawn
+    /// Per face of the mesh, in order.
+    pub first_hit: Vec<FirstHit>,
+    /// Each boundary loop's vertices in model space: every face is drawn
     /// where these project (their caps lie within the loops' convex hulls).
     pub holes: Vec<Vec<DVec3>>,
 }
@@ -41,13 +64,17 @@ pub(crate) struct Closure {
 /// Meshes with more triangles than this are not checked (every face drawn).
 const MAX_TRIANGLES: usize = 200_000;
 
+/// Self-intersecting meshes with more triangles than this (caps included)
+/// get no winding numbers (every face drawn): `O(n²)` solid angles.
+pub(crate) const MAX_WINDING: usize = 3000;
+
 /// At most this many overlapping bounding-box pairs a triangle are tested
 /// before giving up (every face drawn).
 const PAIRS_PER_TRIANGLE: usize = 64;
 
-/// The proof that `triangles` over `positions` (welded: a shared edge has
-/// the same vertex indices on both sides) bound solids once their holes are
-/// capped, or `None`.
+/// From where each of `triangles` over `positions` (welded: a shared edge
+/// has the same vertex indices on both sides) can be met first, or `None`
+/// if that is known of none.
 pub(crate) fn closure(positions: &[DVec3], triangles: &[[u32; 3]]) -> Option<Closure> {
     if triangles.is_empty() || triangles.len() > MAX_TRIANGLES {
         return None;
@@ -105,8 +132,61 @@ pub(crate) fn closure(positions: &[DVec3], triangles: &[[u32; 3]]) -> Option<Clo
         }
         holes.push(loop_points);
     }
-    let outward = orientation(&points, &tris)?;
-    embedded(&points, &tris).then_some(Closure { outward, holes })
+    let cut = cut_faces(&points, &tris)?;
+    let first_hit = if !cut.iter().any(|&c| c)
+        && let Some(outward) = orientation(&points, &tris)
+    {
+        // Bounds solids: `w ≥ 0` everywhere, `w₊ = w₋ − 1` for outward
+        // normals, so no face is met first from its inner side.
+        let side = if outward > 0.0 {
+            FirstHit::Plus
+        } else {
+            FirstHit::Minus
+        };
+        vec![side; triangles.len()]
+    } else if tris.len() <= MAX_WINDING {
+        (0..triangles.len())
+            .map(|i| {
+                if cut[i] {
+                    FirstHit::Either
+                } else {
+                    first_hit_by_winding(&points, &tris, i)
+                }
+            })
+            .collect()
+    } else {
+        return None;
+    };
+    first_hit
+        .iter()
+        .any(|&f| f != FirstHit::Either)
+        .then_some(Closure { first_hit, holes })
+}
+
+/// From where face `i` of the closed surface `tris`, cut by no other face,
+/// can be met first: its sides' winding numbers `w₊` (where its normal
+/// points) and `w₋ = w₊ + 1` average to the winding number at its centroid
+/// (the principal value: the face itself counts 0).
+fn first_hit_by_winding(points: &[DVec3], tris: &[[u32; 3]], i: usize) -> FirstHit {
+    let [a, b, c] = tris[i].map(|v| points[v as usize]);
+    let centroid = (a + b + c) / 3.0;
+    let total: f64 = tris
+        .iter()
+        .enumerate()
+        .filter(|&(j, _)| j != i)
+        .map(|(_, t)| crate::solid::solid_angle(&t.map(|v| points[v as usize]), centroid))
+        .sum();
+    let plus = total / (4.0 * std::f64::consts::PI) - 0.5;
+    let n = plus.round();
+    // (Also when NaN.)
+    if (plus - n).abs().partial_cmp(&0.05) != Some(std::cmp::Ordering::Less) {
+        return FirstHit::Either;
+    }
+    match n as i64 {
+        0 => FirstHit::Plus,
+        -1 => FirstHit::Minus,
+        _ => FirstHit::Neither,
+    }
 }
 
 /// `+1` or `−1` if every connected part of the closed surface `tris` encloses
@@ -156,9 +236,9 @@ fn orientation(points: &[DVec3], tris: &[[u32; 3]]) -> Option<f64> {
     sign
 }
 
-/// Whether no two triangles of `tris` meet except along the edges and at
-/// the vertices they share (exactly; `false` when unsure or over budget).
-fn embedded(points: &[DVec3], tris: &[[u32; 3]]) -> bool {
+/// Which triangles of `tris` meet another one beyond the edges and vertices
+/// they share (exactly; `None` when over budget).
+fn cut_faces(points: &[DVec3], tris: &[[u32; 3]]) -> Option<Vec<bool>> {
     let boxes: Vec<(DVec3, DVec3)> = tris
         .iter()
         .map(|t| {
@@ -169,6 +249,7 @@ fn embedded(points: &[DVec3], tris: &[[u32; 3]]) -> bool {
     let mut order: Vec<u32> = (0..tris.len() as u32).collect();
     order.sort_unstable_by(|&i, &j| boxes[i as usize].0.x.total_cmp(&boxes[j as usize].0.x));
     let mut budget = PAIRS_PER_TRIANGLE * tris.len();
+    let mut cut = vec![false; tris.len()];
     for (k, &i) in order.iter().enumerate() {
         let (lo, hi) = boxes[i as usize];
         for &j in &order[k + 1..] {
@@ -179,16 +260,14 @@ fn embedded(points: &[DVec3], tris: &[[u32; 3]]) -> bool {
             if lo2.y > hi.y || hi2.y < lo.y || lo2.z > hi.z || hi2.z < lo.z {
                 continue;
             }
-            if budget == 0 {
-                return false;
-            }
-            budget -= 1;
+            budget = budget.checked_sub(1)?;
             if !apart(points, tris[i as usize], tris[j as usize]) {
-                return false;
+                cut[i as usize] = true;
+                cut[j as usize] = true;
             }
         }
     }
-    true
+    Some(cut)
 }
 
 fn c3(p: DVec3) -> Coord3D<f64> {
@@ -384,46 +463,67 @@ mod tests {
     }
 
     #[test]
-    fn a_closed_cube_is_certified_with_its_orientation() {
+    fn a_closed_cube_is_met_from_outside() {
         let (p, t) = cube();
         let c = closure(&p, &t).expect("a cube bounds a solid");
         assert!(c.holes.is_empty());
+        assert_eq!(c.first_hit, vec![FirstHit::Plus; 12]);
         let flipped: Vec<[u32; 3]> = t.iter().map(|&[a, b, c]| [a, c, b]).collect();
         let f = closure(&p, &flipped).expect("so does an inside-out cube");
-        assert_eq!(f.outward, -c.outward);
+        assert_eq!(f.first_hit, vec![FirstHit::Minus; 12]);
     }
 
     #[test]
-    fn an_open_cube_is_certified_with_one_hole() {
+    fn an_open_cube_is_capped_over_its_hole() {
         let (p, mut t) = cube();
         t.truncate(10); // one face (two triangles) removed
         let c = closure(&p, &t).expect("capped, the open cube bounds a solid");
         assert_eq!(c.holes.len(), 1);
         assert_eq!(c.holes[0].len(), 4);
+        assert_eq!(c.first_hit, vec![FirstHit::Plus; 10]);
     }
 
     #[test]
-    fn crossing_or_misoriented_meshes_are_refused() {
+    fn crossing_meshes_keep_their_cut_faces_and_skip_the_buried_ones() {
         let (p, t) = cube();
-        // Two interpenetrating cubes in one mesh.
         let n = p.len() as u32;
+        // Two cubes of one mesh, the second shifted by 0.3 along each axis.
         let mut p2 = p.clone();
         p2.extend(p.iter().map(|v| *v + DVec3::splat(0.3)));
         let mut t2 = t.clone();
         t2.extend(t.iter().map(|tri| tri.map(|i| i + n)));
-        assert!(closure(&p2, &t2).is_none(), "self-intersecting");
-        // Two disjoint cubes: fine; one of them inside out: refused.
-        let mut p3 = p.clone();
-        p3.extend(p.iter().map(|v| *v + DVec3::splat(3.0)));
-        assert!(closure(&p3, &t2).is_some());
+        let c = closure(&p2, &t2).expect("cubes crossing");
+        let count = |f: FirstHit| c.first_hit.iter().filter(|&&x| x == f).count();
+        // Each cube has three faces (six triangles) cut by the other and
+        // three wholly outside it.
+        assert_eq!(count(FirstHit::Either), 12);
+        assert_eq!(count(FirstHit::Plus), 12);
+        // A small cube inside a big one, the big one's faces cut by a third
+        // cube: the small one's faces are never met first.
+        let mut p3 = p2.clone();
+        p3.extend(p.iter().map(|v| *v * 0.25));
+        let mut t3 = t2.clone();
+        t3.extend(t.iter().map(|tri| tri.map(|i| i + 2 * n)));
+        let c = closure(&p3, &t3).expect("nested cubes");
+        assert_eq!(&c.first_hit[24..], &[FirstHit::Neither; 12]);
+        // Two disjoint cubes, one inside out: each met from its outside.
+        let mut p4 = p.clone();
+        p4.extend(p.iter().map(|v| *v + DVec3::splat(3.0)));
         let mut t4 = t.clone();
         t4.extend(t.iter().map(|&[a, b, c]| [a + n, c + n, b + n]));
-        assert!(closure(&p3, &t4).is_none(), "parts wound both ways");
+        let c = closure(&p4, &t4).expect("parts wound both ways");
+        assert_eq!(&c.first_hit[..12], &[FirstHit::Plus; 12]);
+        assert_eq!(&c.first_hit[12..], &[FirstHit::Minus; 12]);
+    }
+
+    #[test]
+    fn meshes_that_are_not_closed_surfaces_are_refused() {
+        let (p, t) = cube();
         // One triangle flipped: an edge used twice in one direction.
         let mut t5 = t.clone();
         t5[0] = [t5[0][0], t5[0][2], t5[0][1]];
         assert!(closure(&p, &t5).is_none());
-        // A lone sheet: its cap is itself, a zero volume.
+        // A lone sheet: its cap lies on it, so every face is cut.
         assert!(closure(&p, &t[..2]).is_none());
     }
 

@@ -41,16 +41,15 @@ use crate::camera::Camera;
 use crate::error::ScoreError;
 use crate::raster::{Edge, View, clip_depth, fill_convex, fill_triangle};
 use crate::shapes::ShapeMeshes;
+use back_faces::FirstHit;
 
 /// One shape's mesh prepared for rendering.
 #[derive(Clone, Debug)]
 struct RenderMesh {
     positions: Vec<DVec3>,
     triangles: Vec<[u32; 3]>,
-    /// Present if the mesh's back faces can be skipped (see `back_faces`).
+    /// Present if some of the mesh's faces can be skipped (see `back_faces`).
     closure: Option<back_faces::Closure>,
-    /// The sign that turns `(b − a) × (c − a)` outward (0 without `closure`).
-    outward: f64,
 }
 
 /// A generator's shape meshes prepared for rendering (checked and welded
@@ -76,12 +75,10 @@ impl RenderMeshes {
             let mesh = mesh.with_welded_vertices();
             let positions: Vec<DVec3> = mesh.positions.iter().map(|p| p.as_dvec3()).collect();
             let closure = back_faces::closure(&positions, &mesh.triangles);
-            let outward = closure.as_ref().map_or(0.0, |c| c.outward);
             meshes.push(RenderMesh {
                 positions,
                 triangles: mesh.triangles,
                 closure,
-                outward,
             });
             names.push(name.to_string());
         }
@@ -113,15 +110,25 @@ impl RenderMeshes {
         t.min(self.names.len().saturating_sub(1) as u16)
     }
 
-    /// Whether renders skip shape `id`'s back faces where that is proven
-    /// to change no pixel: its holes, once capped, must bound solids (a
-    /// closed, consistently wound surface without self-intersections).
-    /// A self-intersecting mesh, such as the paper's leaf, draws every face.
+    /// The share of shape `id`'s faces that renders may skip when they are
+    /// seen from the side where they cannot be the nearest surface (0 if
+    /// none may: a mesh that is not a consistently wound surface once its
+    /// holes are capped). All of them for a mesh that bounds solids (then
+    /// this is back-face culling); fewer for a self-intersecting mesh,
+    /// whose faces cut by others are always drawn. See `back_faces`.
     #[must_use]
-    pub fn skips_back_faces(&self, id: u16) -> bool {
+    pub fn skippable_faces(&self, id: u16) -> f64 {
         self.meshes
             .get(id as usize)
-            .is_some_and(|m| m.closure.is_some())
+            .and_then(|m| m.closure.as_ref())
+            .map_or(0.0, |c| {
+                let n = c
+                    .first_hit
+                    .iter()
+                    .filter(|&&f| f != FirstHit::Either)
+                    .count();
+                n as f64 / c.first_hit.len().max(1) as f64
+            })
     }
 
     /// Number of shapes.
@@ -312,15 +319,15 @@ impl Renderer {
             }
             bounds = Some(b);
         }
-        // The sign that makes `(b − a) × (c − a)` an outward normal in view
-        // space; whether back faces away from the holes can be skipped.
+        // Whether faces may be skipped, and the sign that turns a view-space
+        // `(b − a) × (c − a)` to the model's (−1 for mirrored instances).
         let det = m.matrix3.determinant();
         let turn = if det.is_finite() && det != 0.0 {
             det.signum()
         } else {
             0.0
         };
-        let cull = match &mesh.closure {
+        let first_hit = match &mesh.closure {
             Some(closure) if all_in && beyond_near && turn != 0.0 && !self.all_faces => {
                 self.holes.clear();
                 for hole in &closure.holes {
@@ -333,9 +340,9 @@ impl Renderer {
                     // A pixel of margin for the rounding of the crossings.
                     self.holes.push((lo - 1.0, hi + 1.0));
                 }
-                true
+                Some(&closure.first_hit[..])
             }
-            _ => false,
+            _ => None,
         };
         let ctx = Draw {
             camera,
@@ -343,17 +350,17 @@ impl Renderer {
             perspective,
             terminal,
             bounds,
-            outward: mesh.outward * turn,
-            cull,
+            turn,
+            first_hit,
         };
-        // Faces turned toward the eye first: they hide the back faces seen
-        // through holes, which the occlusion tests then may skip.
+        // Faces that may be met first are drawn first: they hide the others
+        // seen through holes, which the occlusion tests then may skip.
         let mut later = std::mem::take(&mut self.later);
         later.clear();
         for (i, t) in mesh.triangles.iter().enumerate() {
-            match self.facing(&ctx, *t) {
-                Facing::Toward => self.triangle(&ctx, *t),
-                Facing::Away => later.push(i as u32),
+            match self.facing(&ctx, i, *t) {
+                Facing::First => self.triangle(&ctx, *t),
+                Facing::Later => later.push(i as u32),
                 Facing::Hidden => {}
             }
         }
@@ -368,38 +375,47 @@ impl Renderer {
         }
     }
 
-    /// Whether triangle `t` of the instance being drawn faces the eye, or
-    /// away from it (drawn after those that face it), or can be skipped.
-    fn facing(&self, ctx: &Draw, t: [u32; 3]) -> Facing {
-        if ctx.outward == 0.0 {
-            return Facing::Toward;
-        }
-        let [a, b, c] = t.map(|i| self.view[i as usize]);
-        let raw = (b - a).cross(c - a) * ctx.outward;
-        let (away, scale) = if ctx.perspective {
-            (raw.dot(a), a.length())
-        } else {
-            (raw.z, 1.0)
+    /// Whether triangle `i` (`t`) of the instance being drawn may be the
+    /// first surface met, or is to be drawn after those (seen through a
+    /// hole), or can be skipped.
+    fn facing(&self, ctx: &Draw, i: usize, t: [u32; 3]) -> Facing {
+        let Some(first_hit) = ctx.first_hit else {
+            return Facing::First;
         };
-        // With a margin: faces seen nearly edge on count as facing the eye.
+        let side = first_hit[i];
+        if side == FirstHit::Either {
+            return Facing::First;
+        }
+        // The eye's side of the face, in the model's terms.
+        let [a, b, c] = t.map(|i| self.view[i as usize]);
+        let raw = (b - a).cross(c - a) * ctx.turn;
+        let (toward, scale) = if ctx.perspective {
+            (-raw.dot(a), a.length())
+        } else {
+            (-raw.z, 1.0)
+        };
+        // With a margin: a face seen nearly edge on may be met first.
         let margin = 1e-9 * raw.length() * scale;
-        if away.partial_cmp(&margin) != Some(std::cmp::Ordering::Greater) {
-            return Facing::Toward;
+        let plus = toward > margin;
+        if !plus && toward >= -margin {
+            return Facing::First;
         }
-        if ctx.cull {
-            // Away from every hole, a back face is never the nearest
-            // surface (see `back_faces`).
-            let [pa, pb, pc] = t.map(|i| self.pixels[i as usize]);
-            let (lo, hi) = (pa.min(pb).min(pc), pa.max(pb).max(pc));
-            let seen_through = self
-                .holes
-                .iter()
-                .any(|(hlo, hhi)| lo.x <= hhi.x && hi.x >= hlo.x && lo.y <= hhi.y && hi.y >= hlo.y);
-            if !seen_through {
-                return Facing::Hidden;
-            }
+        if (side == FirstHit::Plus && plus) || (side == FirstHit::Minus && !plus) {
+            return Facing::First;
         }
-        Facing::Away
+        // Away from every hole, this face is never the nearest surface
+        // (see `back_faces`).
+        let [pa, pb, pc] = t.map(|i| self.pixels[i as usize]);
+        let (lo, hi) = (pa.min(pb).min(pc), pa.max(pb).max(pc));
+        let seen_through = self
+            .holes
+            .iter()
+            .any(|(hlo, hhi)| lo.x <= hhi.x && hi.x >= hlo.x && lo.y <= hhi.y && hi.y >= hlo.y);
+        if seen_through {
+            Facing::Later
+        } else {
+            Facing::Hidden
+        }
     }
 
     /// Draws triangle `t` of the instance being drawn, unless the occlusion
@@ -457,7 +473,7 @@ impl Renderer {
 }
 
 /// What `Renderer::triangle` needs of the instance being drawn.
-struct Draw {
+struct Draw<'a> {
     camera: Camera,
     constants: (f64, f64, f64, f64),
     perspective: bool,
@@ -465,16 +481,19 @@ struct Draw {
     /// The instance's pixel box, if it is wholly in the depth range (then
     /// its triangles get occlusion tests).
     bounds: Option<gbuffer::PixelBox>,
-    /// The sign that turns `(b − a) × (c − a)` outward (0: unknown).
-    outward: f64,
-    /// Whether back faces away from the holes are skipped.
-    cull: bool,
+    /// `det` of the instance's placement in view space: `−1` if mirrored.
+    turn: f64,
+    /// Per face, from where it may be met first, if faces may be skipped.
+    first_hit: Option<&'a [FirstHit]>,
 }
 
-/// Where a triangle faces (see `Renderer::facing`).
+/// Whether a face is drawn (see `Renderer::facing`).
 enum Facing {
-    Toward,
-    Away,
+    /// It may be the first surface met: drawn at once.
+    First,
+    /// Seen through a hole: drawn after the others.
+    Later,
+    /// Never the nearest surface: skipped.
     Hidden,
 }
 
