@@ -132,7 +132,8 @@ pub(crate) fn closure(positions: &[DVec3], triangles: &[[u32; 3]]) -> Option<Clo
         }
         holes.push(loop_points);
     }
-    let cut = cut_faces(&points, &tris)?;
+    // Too large for winding numbers: only a mesh without cuts will do.
+    let cut = cut_faces(&points, &tris, tris.len() > MAX_WINDING)?;
     let first_hit = if !cut.iter().any(|&c| c)
         && let Some(outward) = orientation(&points, &tris)
     {
@@ -237,8 +238,9 @@ fn orientation(points: &[DVec3], tris: &[[u32; 3]]) -> Option<f64> {
 }
 
 /// Which triangles of `tris` meet another one beyond the edges and vertices
-/// they share (exactly; `None` when over budget).
-fn cut_faces(points: &[DVec3], tris: &[[u32; 3]]) -> Option<Vec<bool>> {
+/// they share (exactly; `None` when over budget, or at the first cut if
+/// `only_uncut`).
+fn cut_faces(points: &[DVec3], tris: &[[u32; 3]], only_uncut: bool) -> Option<Vec<bool>> {
     let boxes: Vec<(DVec3, DVec3)> = tris
         .iter()
         .map(|t| {
@@ -262,6 +264,9 @@ fn cut_faces(points: &[DVec3], tris: &[[u32; 3]]) -> Option<Vec<bool>> {
             }
             budget = budget.checked_sub(1)?;
             if !apart(points, tris[i as usize], tris[j as usize]) {
+                if only_uncut {
+                    return None;
+                }
                 cut[i as usize] = true;
                 cut[j as usize] = true;
             }
