@@ -11,10 +11,11 @@
 //! plane (one division a pixel), the face's normal, area and terminal type
 //! come from a per-face table ([`Face`]).
 //!
-//! Back faces are skipped where that provably changes nothing: for meshes
-//! that bound solids once their holes are capped, seen from outside their
-//! hull, away from their holes (`back_faces` holds the proof and the
-//! exact check).
+//! Faces are skipped where that provably changes nothing: a face seen from
+//! a side where a ray from outside the mesh's hull cannot meet it first,
+//! away from the mesh's holes (back-face culling for meshes that bound
+//! solids; decided per face by winding numbers for self-intersecting ones;
+//! `back_faces` holds the proof and the exact checks).
 //!
 //! - [`RenderMeshes`]: a generator's shape meshes prepared once;
 //! - [`Renderer`]: working memory; [`Renderer::render`] fills a [`GBuffer`],
@@ -189,9 +190,10 @@ pub struct Renderer {
     edges: Vec<Edge>,
     /// The pixel boxes where the current instance's holes are seen.
     holes: Vec<(DVec2, DVec2)>,
-    /// The current instance's triangles facing away, drawn last.
+    /// The current instance's triangles seen through its holes, drawn last.
     later: Vec<u32>,
-    /// Whether back faces are skipped where that is exact (the default).
+    /// Whether every face is drawn (else faces are skipped where that is
+    /// exact, the default).
     all_faces: bool,
     /// Instances by increasing depth of their origin.
     order: Vec<(f64, u32)>,
@@ -204,8 +206,9 @@ impl Renderer {
         Self::default()
     }
 
-    /// Draws every face, back faces included, even where skipping them is
-    /// proven not to change the G-buffer (for checking that proof; slower).
+    /// Draws every face, even those proven not to change the G-buffer when
+    /// skipped (see [`RenderMeshes::skippable_faces`]): for checking that
+    /// proof; slower.
     #[must_use]
     pub fn drawing_all_faces(mut self) -> Self {
         self.all_faces = true;
