@@ -4,10 +4,11 @@
 //! consistently wound surface, with an integer winding number `w` off it:
 //! `0` outside its convex hull, changing by one across each face. A ray
 //! from outside the hull has `w = 0` until its first crossing, so a face can
-//! be the first one a ray meets only from a side where `w = 0`. For a face
-//! that no other face cuts, `w` is the same all along each side, and
-//! [`closure`] finds it once per mesh: each face records from which side
-//! (if any) it can be met first ([`FirstHit`]). A face seen from its other
+//! be the first one a ray meets only from a side where `w = 0`. [`closure`]
+//! finds, once per mesh, from which side (if any) each face can be met
+//! first ([`FirstHit`]): for a face that no other face cuts, `w` is the same
+//! all along each side; across a face that others cut, it stays within a
+//! range (see `first_hit_by_winding`). A face seen from its other
 //! side, in pixels away from every hole's projection (a ray there crosses
 //! no cap), is never the nearest surface, and the renderer skips it (see
 //! `Renderer::facing`); covered pixels and depths stay exactly what drawing
@@ -15,10 +16,11 @@
 //!
 //! For a mesh that bounds solids (no face cut by another, each part wound
 //! outward or each inward) this is back-face culling: `w ≥ 0` everywhere,
-//! so no face is met first from its inner side. A self-intersecting mesh (the paper's leaf, whose two
-//! sheets cross at hundreds of face pairs) keeps its faces that are cut, and
-//! gets the rest from the winding number at their centroids (`O(n²)`, for
-//! meshes of at most [`MAX_WINDING`] faces).
+//! so no face is met first from its inner side. A self-intersecting mesh
+//! (the paper's leaf, whose two sheets cross at hundreds of face pairs) gets
+//! them from the winding number at each face's centroid (`O(n²)`, for
+//! meshes of at most [`MAX_WINDING`] faces); a face seen from a side whose
+//! range holds 0 is drawn.
 //!
 //! Which faces meet is decided with exact orientation predicates
 //! (Shewchuk's, from the `robust` crate); a face whose winding number is not
@@ -133,8 +135,8 @@ pub(crate) fn closure(positions: &[DVec3], triangles: &[[u32; 3]]) -> Option<Clo
         holes.push(loop_points);
     }
     // Too large for winding numbers: only a mesh without cuts will do.
-    let cut = cut_faces(&points, &tris, tris.len() > MAX_WINDING)?;
-    let first_hit = if !cut.iter().any(|&c| c)
+    let cutters = cut_faces(&points, &tris, tris.len() > MAX_WINDING)?;
+    let first_hit = if cutters.iter().all(Vec::is_empty)
         && let Some(outward) = orientation(&points, &tris)
     {
         // Bounds solids: `w ≥ 0` everywhere, `w₊ = w₋ − 1` for outward
@@ -147,13 +149,7 @@ pub(crate) fn closure(positions: &[DVec3], triangles: &[[u32; 3]]) -> Option<Clo
         vec![side; triangles.len()]
     } else if tris.len() <= MAX_WINDING {
         (0..triangles.len())
-            .map(|i| {
-                if cut[i] {
-                    FirstHit::Either
-                } else {
-                    first_hit_by_winding(&points, &tris, i)
-                }
-            })
+            .map(|i| first_hit_by_winding(&points, &tris, i, &cutters[i]))
             .collect()
     } else {
         return None;
@@ -164,11 +160,22 @@ pub(crate) fn closure(positions: &[DVec3], triangles: &[[u32; 3]]) -> Option<Clo
         .then_some(Closure { first_hit, holes })
 }
 
-/// From where face `i` of the closed surface `tris`, cut by no other face,
-/// can be met first: its sides' winding numbers `w₊` (where its normal
-/// points) and `w₋ = w₊ + 1` average to the winding number at its centroid
-/// (the principal value: the face itself counts 0).
-fn first_hit_by_winding(points: &[DVec3], tris: &[[u32; 3]], i: usize) -> FirstHit {
+/// From where face `i` of the closed surface `tris` can be met first.
+///
+/// Its sides' winding numbers `w₊` (where its normal points) and
+/// `w₋ = w₊ + 1` average to the winding number at its centroid `c` (the
+/// principal value: the face itself counts 0). Elsewhere on the face, `w₊`
+/// differs from its value at `c` by the faces that cut it (`cutters`)
+/// between the two points: a straight path beside the face from `c` crosses
+/// each cutter at most once, from `c`'s side of it, which fixes the sign of
+/// that step. So `w₊` stays within a range, and a side whose range misses 0
+/// is never met first.
+fn first_hit_by_winding(
+    points: &[DVec3],
+    tris: &[[u32; 3]],
+    i: usize,
+    cutters: &[u32],
+) -> FirstHit {
     let [a, b, c] = tris[i].map(|v| points[v as usize]);
     let centroid = (a + b + c) / 3.0;
     let total: f64 = tris
@@ -183,10 +190,24 @@ fn first_hit_by_winding(points: &[DVec3], tris: &[[u32; 3]], i: usize) -> FirstH
     if (plus - n).abs().partial_cmp(&0.05) != Some(std::cmp::Ordering::Less) {
         return FirstHit::Either;
     }
-    match n as i64 {
-        0 => FirstHit::Plus,
-        -1 => FirstHit::Minus,
-        _ => FirstHit::Neither,
+    // Crossing a face from its `+` side to its `−` side adds 1 to `w`.
+    let (mut lo, mut hi) = (n as i64, n as i64);
+    for &j in cutters {
+        let [p, q, r] = tris[j as usize].map(|v| points[v as usize]);
+        match side(p, q, r, centroid) {
+            // Shewchuk's sign: negative on the side the normal points to.
+            s if s < 0 => hi += 1,
+            s if s > 0 => lo -= 1,
+            _ => return FirstHit::Either,
+        }
+    }
+    let plus_may_be_zero = lo <= 0 && 0 <= hi;
+    let minus_may_be_zero = lo <= -1 && -1 <= hi;
+    match (plus_may_be_zero, minus_may_be_zero) {
+        (true, true) => FirstHit::Either,
+        (true, false) => FirstHit::Plus,
+        (false, true) => FirstHit::Minus,
+        (false, false) => FirstHit::Neither,
     }
 }
 
@@ -237,10 +258,10 @@ fn orientation(points: &[DVec3], tris: &[[u32; 3]]) -> Option<f64> {
     sign
 }
 
-/// Which triangles of `tris` meet another one beyond the edges and vertices
-/// they share (exactly; `None` when over budget, or at the first cut if
-/// `only_uncut`).
-fn cut_faces(points: &[DVec3], tris: &[[u32; 3]], only_uncut: bool) -> Option<Vec<bool>> {
+/// Per triangle of `tris`, the others it meets beyond the edges and
+/// vertices they share (exactly; `None` when over budget, or at the first
+/// cut if `only_uncut`).
+fn cut_faces(points: &[DVec3], tris: &[[u32; 3]], only_uncut: bool) -> Option<Vec<Vec<u32>>> {
     let boxes: Vec<(DVec3, DVec3)> = tris
         .iter()
         .map(|t| {
@@ -251,7 +272,7 @@ fn cut_faces(points: &[DVec3], tris: &[[u32; 3]], only_uncut: bool) -> Option<Ve
     let mut order: Vec<u32> = (0..tris.len() as u32).collect();
     order.sort_unstable_by(|&i, &j| boxes[i as usize].0.x.total_cmp(&boxes[j as usize].0.x));
     let mut budget = PAIRS_PER_TRIANGLE * tris.len();
-    let mut cut = vec![false; tris.len()];
+    let mut cutters = vec![Vec::new(); tris.len()];
     for (k, &i) in order.iter().enumerate() {
         let (lo, hi) = boxes[i as usize];
         for &j in &order[k + 1..] {
@@ -267,12 +288,12 @@ fn cut_faces(points: &[DVec3], tris: &[[u32; 3]], only_uncut: bool) -> Option<Ve
                 if only_uncut {
                     return None;
                 }
-                cut[i as usize] = true;
-                cut[j as usize] = true;
+                cutters[i as usize].push(j);
+                cutters[j as usize].push(i);
             }
         }
     }
-    Some(cut)
+    Some(cutters)
 }
 
 fn c3(p: DVec3) -> Coord3D<f64> {
@@ -559,6 +580,13 @@ mod tests {
             !apart(&points, [0, 1, 2], [0, 9, 10]),
             "overlapping, coplanar"
         );
+    }
+
+    #[test]
+    fn the_orientation_sign_is_negative_where_the_normal_points() {
+        let (o, x, y) = (DVec3::ZERO, DVec3::X, DVec3::Y);
+        assert_eq!(side(o, x, y, DVec3::Z), -1);
+        assert_eq!(side(o, x, y, -DVec3::Z), 1);
     }
 
     #[test]
