@@ -153,13 +153,27 @@ impl Work {
                 return;
             }
             let run = (cells.start as u32, cells.len() as u32);
-            touched.push(run);
             if let Some(runs) = record.as_deref_mut() {
                 runs.push(run);
             }
-            count_span(&mut scratch[cells.clone()], scene.weights_of(cells), counts);
+            count_run(scratch, touched, counts, scene, run);
         });
     }
+}
+
+/// Counts the in-grid run `(first cell, length)` of an instance, and keeps
+/// it to reset: the one step that voxelizing and replaying share, so both
+/// give the same counts.
+fn count_run(
+    cells: &mut [u8],
+    touched: &mut Vec<(u32, u32)>,
+    counts: &mut VolumeCounts,
+    scene: &VolumeScene,
+    (start, len): (u32, u32),
+) {
+    let range = start as usize..(start + len) as usize;
+    touched.push((start, len));
+    count_span(&mut cells[range.clone()], scene.weights_of(range), counts);
 }
 
 /// Per-thread working memory of volume evaluations: per cell its hit count
@@ -329,13 +343,14 @@ impl VolumeScratch {
     fn replay(&mut self, scene: &VolumeScene, cached: Cached) {
         self.work.counts.outside += cached.outside;
         let (first, end) = cached.runs;
-        for &(start, len) in &self.cache.runs[first as usize..end as usize] {
-            let cells = start as usize..(start + len) as usize;
-            self.work.touched.push((start, len));
-            count_span(
-                &mut self.work.cells[cells.clone()],
-                scene.weights_of(cells),
-                &mut self.work.counts,
+        let work = &mut self.work;
+        for &run in &self.cache.runs[first as usize..end as usize] {
+            count_run(
+                &mut work.cells,
+                &mut work.touched,
+                &mut work.counts,
+                scene,
+                run,
             );
         }
     }
