@@ -8,7 +8,7 @@ use std::ops::ControlFlow;
 use shapegen_core::demo::{BlocksTarget, blocks_graph};
 use shapegen_core::optimize::{
     Checkpoint, HYBRID_PATIENCE_SHARE, Hybrid, HybridParams, IslandGa, IslandParams, Rjmcmc,
-    RjmcmcParams, Run, SavedState, Smc, SmcParams, Topology,
+    RjmcmcParams, Run, SavedState, Smc, SmcParams, Tandem, TandemParams, Topology,
 };
 use shapegen_core::prelude::*;
 
@@ -93,6 +93,16 @@ fn every_optimizer_resumes_bit_identically() {
             }),
             seed,
         );
+        check(
+            &Ga::new(GaParams {
+                population: 40,
+                elites: 8,
+                init,
+                local_search: 6,
+                ..GaParams::paper_spaceship()
+            }),
+            seed,
+        );
         check(&Smc::new(SmcParams::paper(60)), seed);
         check(&Smc::new(SmcParams::paper_sosmc(60)), seed);
         check(&Rjmcmc::new(RjmcmcParams::paper(20, init)), seed);
@@ -122,6 +132,13 @@ fn every_optimizer_resumes_bit_identically() {
                 patience_share: HYBRID_PATIENCE_SHARE,
             };
             check(&Hybrid::new(params), seed);
+        }
+        for interval in [1, 3] {
+            let params = TandemParams {
+                interval,
+                ..TandemParams::new(ga, RjmcmcParams::paper(6, init))
+            };
+            check(&Tandem::new(params), seed);
         }
     }
 }

@@ -67,3 +67,79 @@ fn target_fitness_and_observer_stop_the_run() {
         .unwrap();
     assert_eq!((r.stop, r.generations, seen), (StopReason::Observer, 3, 4));
 }
+
+/// The GA with local search on its elites: 10 of each generation's
+/// children are one chain move from the 10 best distinct individuals.
+fn ga_with_local_search() -> Ga {
+    Ga::new(GaParams {
+        local_search: 10,
+        ..ga().params
+    })
+}
+
+#[test]
+fn local_search_reaches_the_optimum_and_beats_random_search() {
+    crate::common::reaches_the_blocks_optimum(|_| ga_with_local_search(), &[1, 2, 3]);
+}
+
+#[test]
+fn local_search_is_deterministic_whatever_the_thread_count() {
+    let (one, other) =
+        crate::common::same_result_whatever_the_thread_count(&ga_with_local_search(), 40);
+    assert_ne!(one.best, other.best);
+    // And it changes the run: local search is not a no-op.
+    let (plain, _) = crate::common::same_result_whatever_the_thread_count(&ga(), 40);
+    assert_ne!(one.population, plain.population);
+}
+
+#[test]
+fn local_search_larger_than_the_children_is_refused() {
+    let params = GaParams {
+        local_search: 81,
+        ..ga().params
+    };
+    let problems = params.problems();
+    assert!(
+        problems.iter().any(|p| p.contains("local_search (81)")),
+        "{problems:?}"
+    );
+    assert!(
+        GaParams {
+            local_search: 80,
+            ..ga().params
+        }
+        .problems()
+        .is_empty()
+    );
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 32, ..Default::default() })]
+
+    /// Every individual of GA runs with local search on random graphs is a
+    /// valid chromosome, and a generation keeps the population's size.
+    #[test]
+    fn local_search_keeps_individuals_valid(
+        graph in crate::common::graph(),
+        seed in proptest::prelude::any::<u64>(),
+        local_search in 1usize..=8,
+    ) {
+        let f = FnFitness(|c: &Chromosome| -(c.len() as f64 - 10.0).abs());
+        let params = GaParams {
+            population: 10,
+            elites: 2,
+            init: InitLength::Between { lo: 1, hi: 30 },
+            local_search,
+            ..GaParams::paper_spaceship()
+        };
+        let mut check = |s: &GenerationStats<'_>| {
+            s.best_chromosome.validate(&graph).unwrap();
+            std::ops::ControlFlow::Continue(())
+        };
+        let r = Ga::new(params).run(&graph, &f, &Budget::generations(12), seed, &mut check).unwrap();
+        proptest::prop_assert_eq!(r.population.len(), 10);
+        for i in &r.population {
+            i.chromosome.validate(&graph).map_err(|e| proptest::test_runner::TestCaseError::fail(e.to_string()))?;
+        }
+    }
+}

@@ -132,6 +132,21 @@ fn the_hybrid_stops_mid_generation_in_either_phase() {
 }
 
 #[test]
+fn the_tandem_stops_mid_generation_with_the_last_complete_one() {
+    let init = InitLength::Around { l0: 12 };
+    let tandem = shapegen_core::optimize::Tandem::new(shapegen_core::optimize::TandemParams::new(
+        GaParams {
+            population: 40,
+            elites: 8,
+            init,
+            ..GaParams::default()
+        },
+        RjmcmcParams::paper(8, init),
+    ));
+    check(&tandem, 150);
+}
+
+#[test]
 fn without_a_flag_nothing_changes() {
     // NoObserver has no flag: the run spends its whole budget.
     let graph = blocks_graph();

@@ -24,3 +24,5 @@ mod operator_stats;
 mod rjmcmc;
 /// SMC and SOSMC reproduce the prior; particles stay valid.
 mod smc;
+/// The tandem (GA beside RJMCMC): both run, valid, deterministic, beats random search.
+mod tandem;

@@ -225,7 +225,7 @@ pub struct RunArgs {
     /// The experiment.
     #[command(flatten)]
     pub experiment: ExperimentArgs,
-    /// Method (ga, smc, sosmc, rjmcmc, islands, hybrid); default: the experiment's.
+    /// Method (ga, smc, sosmc, rjmcmc, islands, hybrid, tandem); default: the experiment's.
     #[arg(long, value_parser = parse_method)]
     pub method: Option<Method>,
     /// Wall-clock budget in seconds (replaces the experiment's budget).
@@ -266,7 +266,7 @@ pub struct CompareArgs {
     /// The experiment.
     #[command(flatten)]
     pub experiment: ExperimentArgs,
-    /// Methods to compare, comma-separated (ga, smc, sosmc, rjmcmc, islands, hybrid).
+    /// Methods to compare, comma-separated (ga, smc, sosmc, rjmcmc, islands, hybrid, tandem).
     #[arg(long, value_delimiter = ',', value_parser = parse_method, default_value = "ga,smc,sosmc,rjmcmc")]
     pub methods: Vec<Method>,
     /// Runs per method (seeds seed, seed + 1, ...).

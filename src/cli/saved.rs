@@ -148,5 +148,6 @@ fn stored_models(state: &SavedState) -> Result<Vec<&SavedIndividual>, String> {
             islands.iter().flatten().take(VERIFIED).collect()
         }
         SavedState::Hybrid { state, .. } => stored_models(state)?,
+        SavedState::Tandem { ga, .. } => stored_models(ga)?,
     })
 }

@@ -48,6 +48,7 @@ pub(super) struct ExperimentFile {
     pub rjmcmc: Option<Spanned<RjmcmcFile>>,
     pub islands: Option<Spanned<IslandsFile>>,
     pub hybrid: Option<Spanned<HybridFile>>,
+    pub tandem: Option<Spanned<TandemFile>>,
 }
 
 /// `[limits]`.
@@ -220,6 +221,7 @@ pub(super) struct GaFile {
     pub split: SplitFile,
     pub tournament: Option<usize>,
     pub elite_dedup: Option<bool>,
+    pub local_search: Option<usize>,
     pub max_retries: Option<u32>,
     pub crossover: Option<EdgeMatchFile>,
     pub budget: Option<Spanned<BudgetFile>>,
@@ -282,6 +284,18 @@ pub(super) struct IslandsFile {
 pub(super) struct HybridFile {
     pub patience: Option<u64>,
     pub patience_share: Option<f64>,
+    pub budget: Option<Spanned<BudgetFile>>,
+}
+
+/// `[tandem]`: the `[ga]` and `[rjmcmc]` settings, and how they trade; the
+/// GA's `local_search` and `elite_dedup` are the tandem's own.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct TandemFile {
+    pub interval: Option<u64>,
+    pub migrants: Option<usize>,
+    pub local_search: Option<usize>,
+    pub elite_dedup: Option<bool>,
     pub budget: Option<Spanned<BudgetFile>>,
 }
 

@@ -86,6 +86,7 @@
 //! mutation_rate = 0.3
 //! split = { grow = 13.5, cut = 13.5, alter = 3.0 }
 //! # tournament = 10, elite_dedup = false, max_retries = 3,
+//! # local_search = 0        # children a generation that are one chain move from the best distinct models
 //! # crossover = "strict" (same graph edge, the paper) | "child_type" (same child node, the authors' code)
 //! budget = { generations = 130 }
 //!
@@ -146,20 +147,23 @@ pub enum Method {
     Islands,
     /// The GA, then RJMCMC from its best models once it stalls (beyond the paper).
     Hybrid,
+    /// The GA and RJMCMC side by side, trading their best (beyond the paper).
+    Tandem,
 }
 
 impl Method {
     /// All methods: the paper's, in its order, then shapegen's.
-    pub const ALL: [Method; 6] = [
+    pub const ALL: [Method; 7] = [
         Method::Ga,
         Method::Smc,
         Method::Sosmc,
         Method::Rjmcmc,
         Method::Islands,
         Method::Hybrid,
+        Method::Tandem,
     ];
 
-    /// The method's name (`ga`, `smc`, `sosmc`, `rjmcmc`, `islands`, `hybrid`).
+    /// The method's name (`ga`, `smc`, `sosmc`, `rjmcmc`, `islands`, `hybrid`, `tandem`).
     #[must_use]
     pub const fn name(self) -> &'static str {
         match self {
@@ -169,6 +173,7 @@ impl Method {
             Self::Rjmcmc => "rjmcmc",
             Self::Islands => "islands",
             Self::Hybrid => "hybrid",
+            Self::Tandem => "tandem",
         }
     }
 }

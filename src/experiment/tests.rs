@@ -128,7 +128,9 @@ fn methods_parse_by_name() {
     assert!("annealing".parse::<Method>().is_err());
     assert_eq!(
         Method::ALL.map(Method::name),
-        ["ga", "smc", "sosmc", "rjmcmc", "islands", "hybrid"]
+        [
+            "ga", "smc", "sosmc", "rjmcmc", "islands", "hybrid", "tandem"
+        ]
     );
 }
 
@@ -538,4 +540,59 @@ fn the_hybrid_runs_the_experiments_ga_then_its_rjmcmc() {
     let (_, key, msg) = invalid(&format!("{MINIMAL}{ga}[hybrid]\npatience_share = 1.5\n"));
     assert_eq!(key, "hybrid");
     assert!(msg.contains("patience_share"), "{msg}");
+}
+
+#[test]
+fn the_tandem_runs_the_experiments_ga_beside_its_rjmcmc() {
+    let ga = "[ga]\npopulation = 120\nelites = 20\ninit_length = 30\nmutation_rate = 0.3\nsplit = { grow = 1.0, cut = 1.0, alter = 1.0 }\nbudget = { generations = 7 }\n[rjmcmc]\nchains = 9\ninit_length = 10\n";
+    let e = load(&format!("{MINIMAL}{ga}")).unwrap();
+    let MethodParams::Tandem(p) = e.method(Method::Tandem).params else {
+        panic!("tandem runs the tandem");
+    };
+    // The recommended GA: local search and elite deduplication.
+    assert_eq!(
+        (
+            p.ga.population,
+            p.ga.local_search,
+            p.ga.elite_dedup,
+            p.rjmcmc.chains,
+            p.interval,
+            p.migrants
+        ),
+        (120, 30, true, 9, 10, 2)
+    );
+    // The paper's GA itself is unchanged.
+    let MethodParams::Ga(g) = e.method(Method::Ga).params else {
+        panic!("ga runs the GA");
+    };
+    assert_eq!((g.local_search, g.elite_dedup), (0, false));
+    assert_eq!(e.budget(Method::Tandem), e.budget(Method::Ga));
+    let e = load(&format!(
+        "{MINIMAL}{ga}[tandem]\ninterval = 4\nmigrants = 3\nlocal_search = 0\nelite_dedup = false\n"
+    ))
+    .unwrap();
+    assert!(matches!(
+        e.method(Method::Tandem).params,
+        MethodParams::Tandem(p) if (p.interval, p.migrants, p.ga.local_search, p.ga.elite_dedup) == (4, 3, 0, false)
+    ));
+    let (_, key, msg) = invalid(&format!("{MINIMAL}{ga}[tandem]\nmigrants = 10\n"));
+    assert_eq!(key, "tandem");
+    assert!(msg.contains("chains (9)"), "{msg}");
+    let (_, key, msg) = invalid(&format!("{MINIMAL}{ga}[tandem]\nlocal_search = 101\n"));
+    assert_eq!(key, "tandem");
+    assert!(msg.contains("local_search (101)"), "{msg}");
+}
+
+#[test]
+fn the_gas_local_search_is_read_and_checked() {
+    let ga = |n: usize| {
+        format!(
+            "[ga]\npopulation = 50\nelites = 10\ninit_length = 30\nmutation_rate = 0.3\nsplit = {{ grow = 1.0, cut = 1.0, alter = 1.0 }}\nlocal_search = {n}\n"
+        )
+    };
+    let e = load(&format!("{MINIMAL}{}", ga(12))).unwrap();
+    assert!(matches!(e.method(Method::Ga).params, MethodParams::Ga(p) if p.local_search == 12));
+    let (_, key, msg) = invalid(&format!("{MINIMAL}{}", ga(41)));
+    assert_eq!(key, "ga");
+    assert!(msg.contains("local_search (41)"), "{msg}");
 }

@@ -106,6 +106,13 @@ pub enum SavedState {
         /// The phase's own state.
         state: Box<SavedState>,
     },
+    /// The tandem: the GA's population and the chains.
+    Tandem {
+        /// The GA's population ([`SavedState::Population`]).
+        ga: Box<SavedState>,
+        /// The chains ([`SavedState::Chains`]).
+        chains: Box<SavedState>,
+    },
 }
 
 impl SavedIndividual {

@@ -11,6 +11,7 @@ use super::checkpoint::{Checkpoint, SavedIndividual, SavedState};
 use super::driver::{Context, Method, Run, drive};
 use super::evaluation::Candidate;
 use super::fitness::is_valid_score;
+use super::rjmcmc::propose;
 use super::selection::{Roulette, RouletteShift, rank_order, tournament};
 use super::{Fitness, Individual, OptimizeError, Optimizer, RunResult, purpose};
 use crate::graph::Graph;
@@ -49,6 +50,13 @@ pub struct GaParams {
     pub roulette: RouletteShift,
     /// Count identical chromosomes once when choosing elites (against sample impoverishment).
     pub elite_dedup: bool,
+    /// Local search on elites: how many children of each generation are one
+    /// move of the RJMCMC chains' kernel (a jump regrowing below a gene with
+    /// the removed genes' parameters copied, or a diffusion of one gene's
+    /// parameters, each with probability 1/2) from the best distinct
+    /// individuals, in turn. 0 (the paper): none.
+    #[serde(default)]
+    pub local_search: usize,
 }
 
 impl Default for GaParams {
@@ -75,6 +83,7 @@ impl GaParams {
             },
             roulette: RouletteShift::IfNegative,
             elite_dedup: false,
+            local_search: 0,
         }
     }
 
@@ -131,6 +140,13 @@ impl GaParams {
         }
         if self.crossover.max_retries == 0 && self.mutation_rate < 1.0 {
             p.push("crossover.max_retries must be at least 1".into());
+        }
+        if self.local_search > self.population - self.elites.min(self.population) {
+            p.push(format!(
+                "local_search ({}) must not exceed the children of a generation (population - elites = {})",
+                self.local_search,
+                self.population - self.elites.min(self.population)
+            ));
         }
         p
     }
@@ -204,7 +220,8 @@ impl Ga {
         scores.clear();
         scores.extend(population.iter().map(|i| i.fitness));
         wheel.rebuild(scores, self.params.roulette);
-        let missing = self.params.population - next.len();
+        let local = self.local_moves(graph, population, seed, generation, island);
+        let missing = self.params.population - next.len() - local.len();
         let children: Vec<Candidate> = (0..missing.div_ceil(2) as u64)
             .into_par_iter()
             .flat_map_iter(|i| {
@@ -214,7 +231,52 @@ impl Ga {
             .collect();
         // With one place left, only the pair's first child is kept.
         next.extend(children.into_iter().take(missing));
+        next.extend(local);
         next
+    }
+
+    /// The local-search children: move `i` (from the stream `(seed,
+    /// generation, i, LOCAL[, island])`) starts from the `i mod d`-th of the
+    /// `d` best distinct valid individuals. A move that changes nothing
+    /// (no gene to move, or a jump outside the length limits) is a copy.
+    fn local_moves(
+        &self,
+        graph: &Graph,
+        sorted: &[Individual],
+        seed: u64,
+        generation: u64,
+        island: Option<u64>,
+    ) -> Vec<Candidate> {
+        let n = self.params.local_search;
+        if n == 0 {
+            return Vec::new();
+        }
+        let mut seen = HashSet::new();
+        let starts: Vec<&Individual> = sorted
+            .iter()
+            .filter(|i| is_valid_score(i.fitness))
+            .filter(|i| seen.insert(i.chromosome.structural_hash(graph)))
+            .take(n)
+            .collect();
+        if starts.is_empty() {
+            return Vec::new();
+        }
+        (0..n as u64)
+            .into_par_iter()
+            .map(|i| {
+                let x = starts[i as usize % starts.len()];
+                let mut rng = island_stream(seed, [generation, i, purpose::LOCAL], island);
+                let moved = propose(graph, &x.chromosome, 0.5, true, &mut rng);
+                if moved.changed {
+                    Candidate::new(moved.state)
+                } else {
+                    Candidate {
+                        chromosome: x.chromosome.clone(),
+                        fitness: Some(x.fitness),
+                    }
+                }
+            })
+            .collect()
     }
 
     /// The elites: the `E` best valid individuals, each structure once if `elite_dedup`.

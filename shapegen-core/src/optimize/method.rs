@@ -2,7 +2,7 @@
 
 use super::{
     Fitness, Ga, GaParams, Hybrid, HybridParams, IslandGa, IslandParams, OptimizeError, Optimizer,
-    Rjmcmc, RjmcmcParams, Run, RunResult, Smc, SmcParams,
+    Rjmcmc, RjmcmcParams, Run, RunResult, Smc, SmcParams, Tandem, TandemParams,
 };
 
 /// The parameters of one of the methods, chosen at run time (an experiment
@@ -19,6 +19,8 @@ pub enum MethodParams {
     Islands(IslandParams),
     /// GA-then-RJMCMC parameters.
     Hybrid(HybridParams),
+    /// GA-beside-RJMCMC parameters.
+    Tandem(TandemParams),
 }
 
 impl Optimizer for MethodParams {
@@ -29,6 +31,7 @@ impl Optimizer for MethodParams {
             Self::Rjmcmc(p) => Rjmcmc::new(p).name(),
             Self::Islands(p) => IslandGa::new(p).name(),
             Self::Hybrid(p) => Hybrid::new(p).name(),
+            Self::Tandem(p) => Tandem::new(p).name(),
         }
     }
 
@@ -39,6 +42,7 @@ impl Optimizer for MethodParams {
             Self::Rjmcmc(p) => Rjmcmc::new(p).run_from(run),
             Self::Islands(p) => IslandGa::new(p).run_from(run),
             Self::Hybrid(p) => Hybrid::new(p).run_from(run),
+            Self::Tandem(p) => Tandem::new(p).run_from(run),
         }
     }
 }

@@ -2,7 +2,11 @@
 //! Algorithm 1) and the paper's baselines — [`Smc`] (SMC and SOSMC, Ritchie
 //! et al. 2015) and [`Rjmcmc`] (Talton et al. 2011, with parallel tempering)
 //! — plus [`RandomSearch`], all behind one [`Optimizer`] trait with the same
-//! [`Fitness`], [`Budget`] and [`Observer`].
+//! [`Fitness`], [`Budget`] and [`Observer`]. Beyond the paper: the
+//! [`IslandGa`], the [`Hybrid`] (GA, then RJMCMC once it stalls) and the
+//! [`Tandem`] (GA and RJMCMC side by side, trading their best; with
+//! [`TandemParams::recommended`] the most robust method measured so far),
+//! and the GA's optional local search on elites ([`GaParams::local_search`]).
 //!
 //! Runs are deterministic: every random decision comes from a stream derived
 //! from `(seed, generation, index, purpose)` (see [`crate::rng`]), fitness
@@ -25,6 +29,7 @@ mod random;
 mod rjmcmc;
 mod selection;
 mod smc;
+mod tandem;
 
 use std::time::Duration;
 
@@ -44,6 +49,7 @@ pub use random::RandomSearch;
 pub use rjmcmc::{DelayedRejection, Ladder, LogLikelihood, Rjmcmc, RjmcmcParams};
 pub use selection::{Roulette, RouletteShift, rank_order, tournament};
 pub use smc::{MAX_STEP_GENES, Resampling, SlotOrder, Smc, SmcParams, SmcWeights};
+pub use tandem::{TANDEM_INTERVAL, TANDEM_LOCAL_SEARCH, TANDEM_MIGRANTS, Tandem, TandemParams};
 
 use crate::genome::Chromosome;
 use crate::graph::Graph;
@@ -157,4 +163,5 @@ pub(crate) mod purpose {
     pub const INIT: u64 = 1;
     pub const BREED: u64 = 2;
     pub const MIGRATE: u64 = 3;
+    pub const LOCAL: u64 = 4;
 }

@@ -327,11 +327,13 @@ struct SecondStage<'a> {
 }
 
 /// A chain's proposal and what its acceptance needs.
-struct Proposal {
-    state: Chromosome,
+pub(crate) struct Proposal {
+    /// The proposed state.
+    pub state: Chromosome,
     /// `q_{x'}(v) / q_x(v)` (1 for diffusion).
     selection_ratio: f64,
-    changed: bool,
+    /// Whether `state` differs from the chain's (a no-op proposal is not evaluated).
+    pub changed: bool,
     /// For a jump: the gene `v`, `q_x(v)`, and how many genes `x` keeps before regrowth.
     jump: Option<(u32, f64, usize)>,
 }
@@ -344,42 +346,57 @@ impl Rjmcmc {
     }
 
     fn propose<R: Rng + ?Sized>(&self, graph: &Graph, x: &Chromosome, rng: &mut R) -> Proposal {
-        let mut y = x.clone();
-        let unchanged = |y| Proposal {
+        let copy = self.params.delayed_rejection != DelayedRejection::Exact;
+        propose(graph, x, self.params.jump_probability, copy, rng)
+    }
+}
+
+/// One proposal of the chains' kernel from `x`: a jump at a level-biased
+/// gene with probability `jump_probability` (copying the removed genes'
+/// parameters if `copy`), else a diffusion of one gene's parameters. A jump
+/// outside the graph's length limits, or with no gene to move, leaves `x`
+/// unchanged (`changed` false).
+pub(crate) fn propose<R: Rng + ?Sized>(
+    graph: &Graph,
+    x: &Chromosome,
+    jump_probability: f64,
+    copy: bool,
+    rng: &mut R,
+) -> Proposal {
+    let mut y = x.clone();
+    let unchanged = |y| Proposal {
+        state: y,
+        selection_ratio: 1.0,
+        changed: false,
+        jump: None,
+    };
+    if rng.random_bool(jump_probability) {
+        let Some((v, q)) = select(graph, x, jump_point(graph), rng) else {
+            return unchanged(y);
+        };
+        jump(graph, &mut y, v, copy, rng);
+        if !graph.limits().allows_len(y.len() as u32) {
+            // Outside the target's support (length limits): rejected outright.
+            return unchanged(x.clone());
+        }
+        let kept = x.len() - x.subtree_len(graph, v) + 1;
+        let q_back = selection_probability(graph, &y, v, jump_point(graph));
+        Proposal {
+            state: y,
+            selection_ratio: q_back / q,
+            changed: true,
+            jump: Some((v, q, kept)),
+        }
+    } else {
+        let Some((v, _)) = select(graph, x, has_params(graph), rng) else {
+            return unchanged(y);
+        };
+        y.redraw_params(graph, v, rng);
+        Proposal {
             state: y,
             selection_ratio: 1.0,
-            changed: false,
+            changed: true,
             jump: None,
-        };
-        if rng.random_bool(self.params.jump_probability) {
-            let Some((v, q)) = select(graph, x, jump_point(graph), rng) else {
-                return unchanged(y);
-            };
-            let copy = self.params.delayed_rejection != DelayedRejection::Exact;
-            jump(graph, &mut y, v, copy, rng);
-            if !graph.limits().allows_len(y.len() as u32) {
-                // Outside the target's support (length limits): rejected outright.
-                return unchanged(x.clone());
-            }
-            let kept = x.len() - x.subtree_len(graph, v) + 1;
-            let q_back = selection_probability(graph, &y, v, jump_point(graph));
-            Proposal {
-                state: y,
-                selection_ratio: q_back / q,
-                changed: true,
-                jump: Some((v, q, kept)),
-            }
-        } else {
-            let Some((v, _)) = select(graph, x, has_params(graph), rng) else {
-                return unchanged(y);
-            };
-            y.redraw_params(graph, v, rng);
-            Proposal {
-                state: y,
-                selection_ratio: 1.0,
-                changed: true,
-                jump: None,
-            }
         }
     }
 }
@@ -614,10 +631,30 @@ impl Method for Rjmcmc {
         cx: &mut Context<'_, '_, F>,
         state: &mut Chains,
     ) -> Result<ControlFlow<Vec<Individual>>, OptimizeError> {
-        let (graph, seed, g) = (cx.graph, cx.seed, cx.generation());
-        let Chains { chains, betas } = state;
-        let ll = self.params.log_likelihood;
-        let proposals: Vec<(Proposal, f64)> = chains
+        let (proposals, candidates) = self.proposals(cx.graph, cx.seed, cx.generation(), state);
+        let Some(evaluated) = cx.evaluate_interruptible(candidates) else {
+            return Ok(ControlFlow::Break(std::mem::take(&mut state.chains)));
+        };
+        self.accept(cx, state, evaluated, &proposals);
+        Ok(ControlFlow::Continue(()))
+    }
+}
+
+/// One proposal per chain, with the uniform number its acceptance draws.
+pub(crate) type Proposals = Vec<(Proposal, f64)>;
+
+impl Rjmcmc {
+    /// Every chain's proposal of generation `g`, and the candidates to
+    /// evaluate (an unchanged proposal keeps its chain's fitness).
+    pub(crate) fn proposals(
+        &self,
+        graph: &Graph,
+        seed: u64,
+        g: u64,
+        state: &Chains,
+    ) -> (Proposals, Vec<Candidate>) {
+        let chains = &state.chains;
+        let proposals: Proposals = chains
             .par_iter()
             .enumerate()
             .map(|(i, x)| {
@@ -634,15 +671,28 @@ impl Method for Rjmcmc {
                 fitness: (!p.changed).then_some(x.fitness),
             })
             .collect();
-        let Some(evaluated) = cx.evaluate_interruptible(candidates) else {
-            return Ok(ControlFlow::Break(std::mem::take(chains)));
-        };
+        (proposals, candidates)
+    }
+
+    /// The rest of a generation once the proposals are `evaluated`: the
+    /// first stage's acceptance, delayed rejection, a tempering swap and
+    /// annealing.
+    pub(crate) fn accept<F: Fitness>(
+        &self,
+        cx: &mut Context<'_, '_, F>,
+        state: &mut Chains,
+        evaluated: Vec<Individual>,
+        proposals: &Proposals,
+    ) {
+        let (seed, g) = (cx.seed, cx.generation());
+        let Chains { chains, betas } = state;
+        let ll = self.params.log_likelihood;
         // First stage; remember rejected jumps (with y1's fitness) for delayed rejection.
         let mut rejected: Vec<(usize, f64)> = Vec::new();
         let stage = chains
             .iter_mut()
             .zip(evaluated)
-            .zip(&proposals)
+            .zip(proposals)
             .zip(betas.iter())
             .enumerate();
         for (i, (((x, y), (p, u)), beta)) in stage {
@@ -665,7 +715,7 @@ impl Method for Rjmcmc {
         }
         if self.params.delayed_rejection != DelayedRejection::Off && !rejected.is_empty() {
             let stage = SecondStage {
-                proposals: &proposals,
+                proposals,
                 rejected: &rejected,
                 betas,
                 seed,
@@ -687,6 +737,5 @@ impl Method for Rjmcmc {
         if let Some(factor) = self.params.annealing {
             betas.iter_mut().for_each(|b| *b *= factor);
         }
-        Ok(ControlFlow::Continue(()))
     }
 }

@@ -17,7 +17,7 @@ use crate::experiment::{ExperimentError, Method, MethodConfig, MethodParams};
 use crate::ops::{CrossoverConfig, EdgeMatch, InitLength, MutationSplit};
 use crate::optimize::{
     Budget, DelayedRejection, GaParams, HYBRID_PATIENCE_SHARE, HybridParams, IslandParams,
-    RjmcmcParams, SmcParams, Topology,
+    RjmcmcParams, SmcParams, TANDEM_INTERVAL, TANDEM_MIGRANTS, TandemParams, Topology,
 };
 
 /// The largest population, particle or chain count (each individual keeps a
@@ -63,6 +63,7 @@ pub(super) fn from_file(
         (Method::Rjmcmc, rjmcmc),
         (Method::Islands, islands(ctx, f, ga)?),
         (Method::Hybrid, hybrid(ctx, f, ga, rjmcmc)?),
+        (Method::Tandem, tandem(ctx, f, ga, rjmcmc)?),
     ]))
 }
 
@@ -142,6 +143,7 @@ fn ga(ctx: &Ctx<'_>, table: Option<&Spanned<GaFile>>) -> Result<MethodConfig, Ex
             },
         },
         elite_dedup: g.elite_dedup.unwrap_or(preset.elite_dedup),
+        local_search: g.local_search.unwrap_or(preset.local_search),
         ..preset
     };
     let mut problems = params.problems();
@@ -315,6 +317,45 @@ fn hybrid(
         MethodParams::Hybrid(params),
         problems,
         h.budget.as_ref(),
+    )?;
+    config.budget = config.budget.or(ga.budget);
+    Ok(config)
+}
+
+/// The tandem: the experiment's GA and RJMCMC side by side, as
+/// [`TandemParams::recommended`] sets them (the GA with local search and
+/// elite deduplication) unless `[tandem]` says otherwise; the GA's budget
+/// unless `[tandem]` has its own.
+fn tandem(
+    ctx: &Ctx<'_>,
+    f: &ExperimentFile,
+    ga: MethodConfig,
+    rjmcmc: MethodConfig,
+) -> Result<MethodConfig, ExperimentError> {
+    let (MethodParams::Ga(ga_params), MethodParams::Rjmcmc(rjmcmc)) = (ga.params, rjmcmc.params)
+    else {
+        unreachable!("the GA's and RJMCMC's configurations hold their parameters")
+    };
+    let mut params = TandemParams::recommended(ga_params, rjmcmc);
+    let Some(t) = f.tandem.as_ref() else {
+        return Ok(MethodConfig {
+            params: MethodParams::Tandem(params),
+            budget: ga.budget,
+        });
+    };
+    let table = t.get_ref();
+    params.interval = table.interval.unwrap_or(TANDEM_INTERVAL);
+    params.migrants = table.migrants.unwrap_or(TANDEM_MIGRANTS);
+    params.ga.local_search = table.local_search.unwrap_or(params.ga.local_search);
+    params.ga.elite_dedup = table.elite_dedup.unwrap_or(params.ga.elite_dedup);
+    let problems = params.problems();
+    let mut config = config(
+        ctx,
+        Method::Tandem,
+        t,
+        MethodParams::Tandem(params),
+        problems,
+        table.budget.as_ref(),
     )?;
     config.budget = config.budget.or(ga.budget);
     Ok(config)

@@ -1,0 +1,283 @@
+//! The tandem: the GA and RJMCMC chains side by side, trading their best.
+
+use std::borrow::Cow;
+use std::collections::HashSet;
+use std::ops::ControlFlow;
+
+use serde::{Deserialize, Serialize};
+
+use super::checkpoint::{Checkpoint, SavedState};
+use super::driver::{Context, Method, Run, drive};
+use super::fitness::is_valid_score;
+use super::ga::GaState;
+use super::rjmcmc::Chains;
+use super::selection::rank_order;
+use super::{
+    Fitness, Ga, GaParams, Individual, OptimizeError, Optimizer, Rjmcmc, RjmcmcParams, RunResult,
+};
+use crate::graph::Graph;
+
+/// The GA's streams in a tandem: island 0's, apart from the chains' (which
+/// are RJMCMC's own).
+const GA_STREAMS: Option<u64> = Some(0);
+
+/// Parameters of the [`Tandem`].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TandemParams {
+    /// The GA.
+    pub ga: GaParams,
+    /// The chains.
+    pub rjmcmc: RjmcmcParams,
+    /// Generations between two exchanges.
+    pub interval: u64,
+    /// Distinct models each side sends at an exchange.
+    pub migrants: usize,
+}
+
+/// The default [`TandemParams::interval`].
+pub const TANDEM_INTERVAL: u64 = 10;
+/// The default [`TandemParams::migrants`].
+pub const TANDEM_MIGRANTS: usize = 2;
+/// The GA's local search in [`TandemParams::recommended`] (children a
+/// generation, at most the GA's non-elite places).
+pub const TANDEM_LOCAL_SEARCH: usize = 30;
+
+impl TandemParams {
+    /// The GA and the chains of `ga` and `rjmcmc`, with the default exchange.
+    #[must_use]
+    pub const fn new(ga: GaParams, rjmcmc: RjmcmcParams) -> Self {
+        Self {
+            ga,
+            rjmcmc,
+            interval: TANDEM_INTERVAL,
+            migrants: TANDEM_MIGRANTS,
+        }
+    }
+
+    /// The tandem as shapegen recommends it: the GA of `ga` with elite
+    /// deduplication and [`TANDEM_LOCAL_SEARCH`] local-search children a
+    /// generation (at most its non-elite places), beside the chains of
+    /// `rjmcmc`, with the default exchange. `reproduction.md` (*Beyond the
+    /// paper*) has the measurements behind these choices.
+    #[must_use]
+    pub fn recommended(ga: GaParams, rjmcmc: RjmcmcParams) -> Self {
+        let children = ga.population.saturating_sub(ga.elites);
+        Self::new(
+            GaParams {
+                elite_dedup: true,
+                local_search: TANDEM_LOCAL_SEARCH.min(children),
+                ..ga
+            },
+            rjmcmc,
+        )
+    }
+
+    /// Every problem with these parameters.
+    pub fn problems(&self) -> Vec<String> {
+        let mut p = self.ga.problems();
+        p.extend(self.rjmcmc.problems());
+        if self.interval == 0 {
+            p.push("interval must be at least 1 generation".into());
+        }
+        if self.migrants == 0 {
+            p.push("migrants must be at least 1".into());
+        }
+        if self.migrants > self.ga.population - self.ga.elites.min(self.ga.population) {
+            p.push(format!(
+                "migrants ({}) must not exceed the GA's non-elite places ({})",
+                self.migrants,
+                self.ga.population - self.ga.elites.min(self.ga.population)
+            ));
+        }
+        if self.migrants > self.rjmcmc.chains {
+            p.push(format!(
+                "migrants ({}) must not exceed the chains ({})",
+                self.migrants, self.rjmcmc.chains
+            ));
+        }
+        p
+    }
+}
+
+/// The GA (paper Algorithm 1) and RJMCMC with parallel tempering, run side
+/// by side: every generation the GA breeds and evaluates a generation and
+/// every chain makes one proposal. Every `interval` generations the two
+/// trade their best: the chains' `migrants` best distinct models replace the
+/// GA's worst, and the GA's `migrants` best distinct models replace the
+/// states of the chains that hold the worst models, where they are better.
+///
+/// The GA exploits a target fast but can collapse onto one model it cannot
+/// leave, or spend its time on large models early; the tempered chains keep
+/// crossing valleys and start small. Where one side stalls the other carries
+/// the run, and what one finds the other refines. The GA draws from island
+/// 0's streams and the chains from RJMCMC's, so the run is deterministic for
+/// any thread count.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tandem {
+    /// The parameters.
+    pub params: TandemParams,
+}
+
+impl Tandem {
+    /// A tandem with the given parameters.
+    #[must_use]
+    pub const fn new(params: TandemParams) -> Self {
+        Self { params }
+    }
+
+    fn ga(&self) -> Ga {
+        Ga::new(self.params.ga)
+    }
+
+    fn rjmcmc(&self) -> Rjmcmc {
+        Rjmcmc::new(self.params.rjmcmc)
+    }
+
+    /// The `n` best valid individuals of `sorted` (best first), each
+    /// structure once.
+    fn best_distinct<'a>(
+        graph: &Graph,
+        sorted: impl Iterator<Item = &'a Individual>,
+        n: usize,
+    ) -> Vec<Individual> {
+        let mut seen = HashSet::new();
+        sorted
+            .filter(|i| is_valid_score(i.fitness))
+            .filter(|i| seen.insert(i.chromosome.structural_hash(graph)))
+            .take(n)
+            .cloned()
+            .collect()
+    }
+
+    /// The exchange: the chains' best to the GA (replacing its worst), the
+    /// GA's best to the chains holding the worst models, where better.
+    fn exchange(&self, graph: &Graph, state: &mut TandemState) {
+        let n = self.params.migrants;
+        let TandemState { ga, chains } = state;
+        let mut by_fitness: Vec<usize> = (0..chains.chains.len()).collect();
+        by_fitness.sort_by(|&a, &b| rank_order(chains.chains[a].fitness, chains.chains[b].fitness));
+        let from_chains =
+            Self::best_distinct(graph, by_fitness.iter().map(|&i| &chains.chains[i]), n);
+        let from_ga = Self::best_distinct(graph, ga.population.iter(), n);
+        // The chains' worst first; each GA migrant takes one place if better.
+        for (migrant, &place) in from_ga.into_iter().zip(by_fitness.iter().rev()) {
+            if rank_order(migrant.fitness, chains.chains[place].fitness).is_lt() {
+                chains.chains[place] = migrant;
+            }
+        }
+        let mut population = std::mem::take(&mut ga.population);
+        let keep = population.len() - from_chains.len();
+        population.truncate(keep);
+        population.extend(from_chains);
+        ga.replace(population);
+    }
+}
+
+impl Optimizer for Tandem {
+    fn name(&self) -> &'static str {
+        "tandem"
+    }
+
+    fn run_from<F: Fitness>(&self, run: Run<'_, F>) -> Result<RunResult, OptimizeError> {
+        drive(self, run)
+    }
+}
+
+/// The tandem's state: the GA's population and the chains.
+pub(crate) struct TandemState {
+    ga: GaState,
+    chains: Chains,
+}
+
+impl TandemState {
+    /// Both sides' models, best first (stable: the GA's before the chains' on ties).
+    fn merged(&self) -> Vec<Individual> {
+        let mut all: Vec<Individual> = self.ga.population.clone();
+        all.extend(self.chains.chains.iter().cloned());
+        all.sort_by(|a, b| rank_order(a.fitness, b.fitness));
+        all
+    }
+}
+
+impl Method for Tandem {
+    type Params = TandemParams;
+    type State = TandemState;
+
+    fn name(&self) -> &'static str {
+        "tandem"
+    }
+
+    fn params(&self) -> &TandemParams {
+        &self.params
+    }
+
+    fn problems(&self) -> Vec<String> {
+        self.params.problems()
+    }
+
+    fn init<F: Fitness>(&self, cx: &mut Context<'_, '_, F>) -> Result<TandemState, OptimizeError> {
+        let chains = self.rjmcmc().init(cx)?;
+        let initial = self
+            .ga()
+            .initial_population(cx.graph, cx.seed, GA_STREAMS)?;
+        let ga = GaState::new(cx.evaluate_within_budget(initial));
+        Ok(TandemState { ga, chains })
+    }
+
+    fn restore(
+        &self,
+        graph: &Graph,
+        checkpoint: &Checkpoint,
+    ) -> Result<TandemState, OptimizeError> {
+        let SavedState::Tandem { ga, chains } = &checkpoint.state else {
+            return Err(OptimizeError::Checkpoint("it holds no tandem state".into()));
+        };
+        Ok(TandemState {
+            ga: self.ga().restore_state(graph, ga)?,
+            chains: self.rjmcmc().restore_state(graph, chains)?,
+        })
+    }
+
+    fn save(&self, graph: &Graph, state: &TandemState) -> SavedState {
+        SavedState::Tandem {
+            ga: Box::new(self.ga().save_state(graph, &state.ga)),
+            chains: Box::new(self.rjmcmc().save_state(graph, &state.chains)),
+        }
+    }
+
+    fn report<'s>(&self, _graph: &Graph, state: &'s TandemState) -> Cow<'s, [Individual]> {
+        Cow::Owned(state.merged())
+    }
+
+    fn final_population(&self, _graph: &Graph, state: TandemState) -> Vec<Individual> {
+        state.merged()
+    }
+
+    fn step<F: Fitness>(
+        &self,
+        cx: &mut Context<'_, '_, F>,
+        state: &mut TandemState,
+    ) -> Result<ControlFlow<Vec<Individual>>, OptimizeError> {
+        let generation = cx.generation();
+        // One evaluation for both sides, so an interrupt drops the whole
+        // generation: the GA's children first, then the chains' proposals.
+        let rjmcmc = self.rjmcmc();
+        let (proposals, mut candidates) =
+            rjmcmc.proposals(cx.graph, cx.seed, generation, &state.chains);
+        let chain_count = candidates.len();
+        let mut next =
+            self.ga()
+                .next_generation(cx.graph, &mut state.ga, cx.seed, generation, GA_STREAMS);
+        next.append(&mut candidates);
+        let Some(mut evaluated) = cx.evaluate_interruptible(next) else {
+            return Ok(ControlFlow::Break(state.merged()));
+        };
+        let chains = evaluated.split_off(evaluated.len() - chain_count);
+        state.ga.replace(evaluated);
+        rjmcmc.accept(cx, &mut state.chains, chains, &proposals);
+        if generation.is_multiple_of(self.params.interval) {
+            self.exchange(cx.graph, state);
+        }
+        Ok(ControlFlow::Continue(()))
+    }
+}
