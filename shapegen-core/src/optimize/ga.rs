@@ -12,7 +12,7 @@ use super::driver::{Context, Method, Run, drive};
 use super::evaluation::Candidate;
 use super::fitness::is_valid_score;
 use super::rjmcmc::propose;
-use super::selection::{Roulette, RouletteShift, rank_order, tournament};
+use super::selection::{Roulette, RouletteShift, best_distinct, rank_order, tournament};
 use super::{Fitness, Individual, OptimizeError, Optimizer, RunResult, purpose};
 use crate::graph::Graph;
 use crate::ops::{
@@ -111,6 +111,12 @@ impl GaParams {
         }
     }
 
+    /// The children bred each generation: the places not taken by elites.
+    #[must_use]
+    pub const fn children(&self) -> usize {
+        self.population.saturating_sub(self.elites)
+    }
+
     /// Every problem with these parameters.
     pub fn problems(&self) -> Vec<String> {
         let mut p = Vec::new();
@@ -141,11 +147,11 @@ impl GaParams {
         if self.crossover.max_retries == 0 && self.mutation_rate < 1.0 {
             p.push("crossover.max_retries must be at least 1".into());
         }
-        if self.local_search > self.population - self.elites.min(self.population) {
+        if self.local_search > self.children() {
             p.push(format!(
                 "local_search ({}) must not exceed the children of a generation (population - elites = {})",
                 self.local_search,
-                self.population - self.elites.min(self.population)
+                self.children()
             ));
         }
         p
@@ -251,13 +257,7 @@ impl Ga {
         if n == 0 {
             return Vec::new();
         }
-        let mut seen = HashSet::new();
-        let starts: Vec<&Individual> = sorted
-            .iter()
-            .filter(|i| is_valid_score(i.fitness))
-            .filter(|i| seen.insert(i.chromosome.structural_hash(graph)))
-            .take(n)
-            .collect();
+        let starts = best_distinct(graph, sorted.iter(), n);
         if starts.is_empty() {
             return Vec::new();
         }

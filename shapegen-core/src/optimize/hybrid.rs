@@ -2,17 +2,15 @@
 //! the GA's best models (the paper's future work).
 
 use std::borrow::Cow;
-use std::collections::HashSet;
 use std::ops::ControlFlow;
 
 use serde::{Deserialize, Serialize};
 
 use super::checkpoint::{Checkpoint, SavedState};
 use super::driver::{Context, Method, Run, drive};
-use super::fitness::is_valid_score;
 use super::ga::GaState;
 use super::rjmcmc::Chains;
-use super::selection::rank_order;
+use super::selection::{best_distinct, rank_order};
 use super::{
     Fitness, Ga, GaParams, Individual, OptimizeError, Optimizer, Rjmcmc, RjmcmcParams, RunResult,
 };
@@ -107,14 +105,11 @@ impl Hybrid {
     /// The chains the GA hands over: its best distinct valid models (the
     /// population is sorted best first), repeated when there are fewer.
     fn chains_from(&self, graph: &Graph, population: &[Individual]) -> Chains {
-        let mut seen = HashSet::new();
-        let mut best: Vec<Individual> = population
-            .iter()
-            .filter(|i| is_valid_score(i.fitness))
-            .filter(|i| seen.insert(i.chromosome.structural_hash(graph)))
-            .take(self.params.rjmcmc.chains)
-            .cloned()
-            .collect();
+        let mut best: Vec<Individual> =
+            best_distinct(graph, population.iter(), self.params.rjmcmc.chains)
+                .into_iter()
+                .cloned()
+                .collect();
         if best.is_empty() {
             best.push(population[0].clone());
         }

@@ -1,11 +1,14 @@
 //! Ranking and parent selection: stable sorting, roulette wheel, k-tournament.
 
 use std::cmp::Ordering;
+use std::collections::HashSet;
 
 use rand::{Rng, RngExt};
 use serde::{Deserialize, Serialize};
 
+use super::Individual;
 use super::fitness::is_valid_score;
+use crate::graph::Graph;
 
 /// Orders fitness values best first; failed (non-finite) scores last.
 #[must_use]
@@ -16,6 +19,21 @@ pub fn rank_order(a: f64, b: f64) -> Ordering {
         (false, true) => Ordering::Greater,
         (false, false) => Ordering::Equal,
     }
+}
+
+/// The `n` best valid individuals of `sorted` (best first), each structure
+/// (by [`Chromosome::structural_hash`](crate::genome::Chromosome::structural_hash)) once.
+pub(crate) fn best_distinct<'a>(
+    graph: &Graph,
+    sorted: impl Iterator<Item = &'a Individual>,
+    n: usize,
+) -> Vec<&'a Individual> {
+    let mut seen = HashSet::new();
+    sorted
+        .filter(|i| is_valid_score(i.fitness))
+        .filter(|i| seen.insert(i.chromosome.structural_hash(graph)))
+        .take(n)
+        .collect()
 }
 
 /// How roulette weights are made from fitness values that may be negative.

@@ -1,17 +1,15 @@
 //! The tandem: the GA and RJMCMC chains side by side, trading their best.
 
 use std::borrow::Cow;
-use std::collections::HashSet;
 use std::ops::ControlFlow;
 
 use serde::{Deserialize, Serialize};
 
 use super::checkpoint::{Checkpoint, SavedState};
 use super::driver::{Context, Method, Run, drive};
-use super::fitness::is_valid_score;
 use super::ga::GaState;
 use super::rjmcmc::Chains;
-use super::selection::rank_order;
+use super::selection::{best_distinct, rank_order};
 use super::{
     Fitness, Ga, GaParams, Individual, OptimizeError, Optimizer, Rjmcmc, RjmcmcParams, RunResult,
 };
@@ -61,11 +59,10 @@ impl TandemParams {
     /// paper*) has the measurements behind these choices.
     #[must_use]
     pub fn recommended(ga: GaParams, rjmcmc: RjmcmcParams) -> Self {
-        let children = ga.population.saturating_sub(ga.elites);
         Self::new(
             GaParams {
                 elite_dedup: true,
-                local_search: TANDEM_LOCAL_SEARCH.min(children),
+                local_search: TANDEM_LOCAL_SEARCH.min(ga.children()),
                 ..ga
             },
             rjmcmc,
@@ -82,11 +79,11 @@ impl TandemParams {
         if self.migrants == 0 {
             p.push("migrants must be at least 1".into());
         }
-        if self.migrants > self.ga.population - self.ga.elites.min(self.ga.population) {
+        if self.migrants > self.ga.children() {
             p.push(format!(
                 "migrants ({}) must not exceed the GA's non-elite places ({})",
                 self.migrants,
-                self.ga.population - self.ga.elites.min(self.ga.population)
+                self.ga.children()
             ));
         }
         if self.migrants > self.rjmcmc.chains {
@@ -133,22 +130,6 @@ impl Tandem {
         Rjmcmc::new(self.params.rjmcmc)
     }
 
-    /// The `n` best valid individuals of `sorted` (best first), each
-    /// structure once.
-    fn best_distinct<'a>(
-        graph: &Graph,
-        sorted: impl Iterator<Item = &'a Individual>,
-        n: usize,
-    ) -> Vec<Individual> {
-        let mut seen = HashSet::new();
-        sorted
-            .filter(|i| is_valid_score(i.fitness))
-            .filter(|i| seen.insert(i.chromosome.structural_hash(graph)))
-            .take(n)
-            .cloned()
-            .collect()
-    }
-
     /// The exchange: the chains' best to the GA (replacing its worst), the
     /// GA's best to the chains holding the worst models, where better.
     fn exchange(&self, graph: &Graph, state: &mut TandemState) {
@@ -156,9 +137,15 @@ impl Tandem {
         let TandemState { ga, chains } = state;
         let mut by_fitness: Vec<usize> = (0..chains.chains.len()).collect();
         by_fitness.sort_by(|&a, &b| rank_order(chains.chains[a].fitness, chains.chains[b].fitness));
-        let from_chains =
-            Self::best_distinct(graph, by_fitness.iter().map(|&i| &chains.chains[i]), n);
-        let from_ga = Self::best_distinct(graph, ga.population.iter(), n);
+        let from_chains: Vec<Individual> =
+            best_distinct(graph, by_fitness.iter().map(|&i| &chains.chains[i]), n)
+                .into_iter()
+                .cloned()
+                .collect();
+        let from_ga: Vec<Individual> = best_distinct(graph, ga.population.iter(), n)
+            .into_iter()
+            .cloned()
+            .collect();
         // The chains' worst first; each GA migrant takes one place if better.
         for (migrant, &place) in from_ga.into_iter().zip(by_fitness.iter().rev()) {
             if rank_order(migrant.fitness, chains.chains[place].fitness).is_lt() {
