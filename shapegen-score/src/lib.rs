@@ -39,6 +39,7 @@ mod files;
 mod fitness;
 mod grid;
 mod image;
+mod instance_cache;
 mod mesh;
 mod obj;
 mod quality;

@@ -1,16 +1,13 @@
 //! Counting one model's cells against a scene: hit counts per cell and the
 //! sums the scores need.
 
-use std::collections::HashMap;
-use std::collections::hash_map::Entry;
-
-use foldhash::fast::FixedState;
 use glam::Affine3A;
 use shapegen_core::express::ShapeId;
 
 use super::target::in_grid;
 use super::{OutsideCount, VolumeScene};
 use crate::grid::Grid;
+use crate::instance_cache::InstanceCache;
 use crate::solid::Solid;
 use crate::voxelize::Voxelizer;
 
@@ -183,7 +180,7 @@ fn count_run(
 #[derive(Clone, Debug)]
 pub struct VolumeScratch {
     work: Work,
-    cache: InstanceCache,
+    cache: RunCache,
 }
 
 /// What adding an instance writes: per cell its hit count and target flag,
@@ -196,38 +193,9 @@ struct Work {
     counts: VolumeCounts,
 }
 
-/// The cell runs of instances added before, by shape and transform.
-///
-/// An optimizer's models share most of their instances with earlier ones
-/// (a GA child with its parents, an RJMCMC proposal with the current
-/// model): in a GA run on the tree-avoid scene, 99 % of the instances added
-/// had been added before, with the same shape and the same transform bits.
-/// Their runs are replayed instead of voxelized again. The counts are the
-/// same numbers either way: the same runs are counted in the same order.
-#[derive(Clone, Debug)]
-struct InstanceCache {
-    /// Hashed with foldhash: std's SipHash of the 50-byte keys took about a
-    /// tenth of a fresh spaceship evaluation.
-    instances: HashMap<InstanceKey, Cached, FixedState>,
-    /// Every cached instance's runs `(first cell, length)`, back to back.
-    runs: Vec<(u32, u32)>,
-    /// Runs held at most: when full, the cache starts over.
-    capacity: usize,
-    /// Instances held at most: when full, the cache starts over.
-    capacity_instances: usize,
-}
-
-impl Default for InstanceCache {
-    fn default() -> Self {
-        Self {
-            // Room for a few hundred models' instances without regrowing.
-            instances: HashMap::with_capacity_and_hasher(1 << 14, FixedState::default()),
-            runs: Vec::with_capacity(1 << 16),
-            capacity: CACHE_RUNS,
-            capacity_instances: CACHE_INSTANCES,
-        }
-    }
-}
+/// The cell runs `(first cell, length)` of instances added before, and
+/// their cells outside the grid (see [`InstanceCache`]).
+type RunCache = InstanceCache<(u32, u32), u64>;
 
 /// Runs the cache holds at most (8 bytes each); when full, it starts over.
 const CACHE_RUNS: usize = 1 << 21;
@@ -235,29 +203,6 @@ const CACHE_RUNS: usize = 1 << 21;
 /// Instances the cache holds at most (about 80 bytes each; instances
 /// outside the grid have no runs); when full, it starts over.
 const CACHE_INSTANCES: usize = 1 << 18;
-
-/// An instance: its shape and its transform's bits.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-struct InstanceKey {
-    shape: ShapeId,
-    transform: [u32; 12],
-}
-
-impl InstanceKey {
-    fn new(shape: ShapeId, transform: &Affine3A) -> Self {
-        Self {
-            shape,
-            transform: transform.to_cols_array().map(f32::to_bits),
-        }
-    }
-}
-
-/// One cached instance: where its runs are and its cells outside the grid.
-#[derive(Clone, Copy, Debug)]
-struct Cached {
-    runs: (u32, u32),
-    outside: u64,
-}
 
 impl VolumeScratch {
     /// Working memory for `scene`.
@@ -274,7 +219,7 @@ impl VolumeScratch {
                 voxelizer: Voxelizer::new(),
                 counts: VolumeCounts::default(),
             },
-            cache: InstanceCache::default(),
+            cache: RunCache::new(CACHE_RUNS, CACHE_INSTANCES),
         }
     }
 
@@ -314,45 +259,29 @@ impl VolumeScratch {
         transform: &Affine3A,
     ) {
         let (good, bad) = (self.work.counts.good, self.work.counts.bad);
-        let cache = &mut self.cache;
-        if cache.runs.len() >= cache.capacity || cache.instances.len() >= cache.capacity_instances {
-            cache.instances.clear();
-            cache.runs.clear();
-        }
-        // One hash a lookup, hit or miss.
-        match cache.instances.entry(InstanceKey::new(shape, transform)) {
-            Entry::Occupied(hit) => {
-                let cached = *hit.get();
-                self.replay(scene, cached);
-            }
-            Entry::Vacant(miss) => {
-                let first = cache.runs.len() as u32;
-                let outside = self.work.counts.outside;
-                self.work
-                    .voxelize(Some(&mut cache.runs), scene, solid, transform);
-                miss.insert(Cached {
-                    runs: (first, cache.runs.len() as u32),
-                    outside: self.work.counts.outside - outside,
-                });
-            }
-        }
+        self.cache.add(
+            shape,
+            transform,
+            &mut self.work,
+            |work, runs, outside| {
+                work.counts.outside += outside;
+                for &run in runs {
+                    count_run(
+                        &mut work.cells,
+                        &mut work.touched,
+                        &mut work.counts,
+                        scene,
+                        run,
+                    );
+                }
+            },
+            |work, runs| {
+                let outside = work.counts.outside;
+                work.voxelize(Some(runs), scene, solid, transform);
+                work.counts.outside - outside
+            },
+        );
         self.add_weight(scene, good, bad);
-    }
-
-    /// Counts a cached instance's runs again.
-    fn replay(&mut self, scene: &VolumeScene, cached: Cached) {
-        self.work.counts.outside += cached.outside;
-        let (first, end) = cached.runs;
-        let work = &mut self.work;
-        for &run in &self.cache.runs[first as usize..end as usize] {
-            count_run(
-                &mut work.cells,
-                &mut work.touched,
-                &mut work.counts,
-                scene,
-                run,
-            );
-        }
     }
 
     /// Adds the weight of the cells newly covered since the counts were
@@ -456,10 +385,7 @@ mod tests {
         }
         // Three distinct instances were added: a cache that never started
         // over would hold them all.
-        assert!(
-            cached.cache.instances.len() < 3,
-            "the cache never filled up"
-        );
+        assert!(cached.cache.len() < 3, "the cache never filled up");
     }
 
     proptest! {
