@@ -94,9 +94,7 @@ impl<T, M: Copy> InstanceCache<T, M> {
         replay: impl FnOnce(&mut C, &[T], M),
         record: impl FnOnce(&mut C, &mut Vec<T>) -> M,
     ) {
-        if self.items.len() >= self.capacity || self.instances.len() >= self.capacity_instances {
-            self.clear();
-        }
+        self.start_over_if_full();
         match self.instances.entry(InstanceKey::new(shape, transform)) {
             Entry::Occupied(hit) => {
                 let Cached { items, summary } = *hit.get();
@@ -116,4 +114,59 @@ impl<T, M: Copy> InstanceCache<T, M> {
             }
         }
     }
+
+    /// [`add`](Self::add) for records that cost more than adding the
+    /// instance without one: the first time an instance is seen, only
+    /// `add(ctx)` and a note that it was seen; the second time, `record`;
+    /// from then on, `replay`. Instances seen once (most of a random
+    /// population's) cost no record.
+    pub(crate) fn add_recording_second<C>(
+        &mut self,
+        shape: ShapeId,
+        transform: &Affine3A,
+        ctx: &mut C,
+        add: impl FnOnce(&mut C),
+        replay: impl FnOnce(&mut C, &[T], M),
+        record: impl FnOnce(&mut C, &mut Vec<T>) -> M,
+    ) where
+        M: Default,
+    {
+        self.start_over_if_full();
+        match self.instances.entry(InstanceKey::new(shape, transform)) {
+            Entry::Occupied(mut hit) => {
+                let Cached { items, summary } = *hit.get();
+                if items == SEEN {
+                    let first = self.items.len() as u32;
+                    let summary = record(ctx, &mut self.items);
+                    *hit.get_mut() = Cached {
+                        items: (first, self.items.len() as u32),
+                        summary,
+                    };
+                } else {
+                    replay(
+                        ctx,
+                        &self.items[items.0 as usize..items.1 as usize],
+                        summary,
+                    );
+                }
+            }
+            Entry::Vacant(miss) => {
+                add(ctx);
+                miss.insert(Cached {
+                    items: SEEN,
+                    summary: M::default(),
+                });
+            }
+        }
+    }
+
+    fn start_over_if_full(&mut self) {
+        if self.items.len() >= self.capacity || self.instances.len() >= self.capacity_instances {
+            self.clear();
+        }
+    }
 }
+
+/// The items of an instance seen once and not recorded (see
+/// [`InstanceCache::add_recording_second`]).
+const SEEN: (u32, u32) = (u32::MAX, u32::MAX);

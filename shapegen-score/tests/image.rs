@@ -56,6 +56,50 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    /// Models made of instances seen before (the same shape and transform,
+    /// in this model or an earlier one, as an optimizer's models are) count
+    /// the same through the instance cache of `add_shape` as through `add`
+    /// with a fresh scratch: one target, or two whose second camera has its
+    /// near plane through the instances (clipped triangles take the other
+    /// path of the rasterizer).
+    #[test]
+    fn cached_instances_count_as_fresh_ones(
+        pool in proptest::collection::vec(placement(0.2..2.0, Vec3::splat(-1.5), Vec3::splat(1.5)), 1..5),
+        models in proptest::collection::vec(proptest::collection::vec((0usize..8, 0usize..4), 1..6), 1..5),
+        two in any::<bool>(),
+    ) {
+        let weights: Vec<f32> = (0..48 * 36).map(|i| [1.0, -2.0, 0.0][(i / 5 + i / 48) % 3]).collect();
+        let near = Camera::orbit(0.7, 0.2, 6.0, DVec3::ZERO, 60f64.to_radians(), 5.6, 100.0, (40, 30)).unwrap();
+        let mut targets = vec![ImageTarget::new(camera(48, 36), weights).unwrap()];
+        if two {
+            targets.push(ImageTarget::new(near, vec![1.0; 40 * 30]).unwrap());
+        }
+        // Two shapes drawn every time (8 and 16 vertices), two remembered
+        // (32 and 48); the same transform on two shapes must not share an
+        // entry.
+        let shapes = [Mesh::unit_cube(), Mesh::leaf(), Mesh::trunk(), Mesh::frustum(24, 0.5, 0.1)]
+            .map(|m| RasterShape::new("shape", &m).unwrap());
+        let mut cached = ImageScratch::new(&targets);
+        for model in &models {
+            cached.begin();
+            let mut fresh = ImageScratch::new(&targets);
+            fresh.begin();
+            for &(k, shape) in model {
+                let t = &pool[k % pool.len()];
+                cached.add_shape(&targets, shape as u16, &shapes[shape], t);
+                fresh.add(&targets, &shapes[shape], t);
+            }
+            prop_assert_eq!(cached.counts_for(&targets), fresh.counts_for(&targets));
+            for i in 0..targets.len() {
+                prop_assert_eq!(cached.covered(i), fresh.covered(i));
+            }
+        }
+    }
+}
+
 /// Instances inside, behind and overlapping others, and one off the image,
 /// cover what brute force says in either order, and a model scored after
 /// a bigger one starts from nothing.

@@ -121,11 +121,11 @@ impl Scene for ImageTargets {
     fn add(
         &self,
         scratch: &mut ImageScratch,
-        _id: ShapeId,
+        id: ShapeId,
         shape: &RasterShape,
         transform: &Affine3A,
     ) {
-        scratch.add(&self.targets, shape, transform);
+        scratch.add_shape(&self.targets, id, shape, transform);
     }
     fn counts(&self, scratch: &ImageScratch) -> ImageCounts {
         scratch.counts_for(&self.targets)

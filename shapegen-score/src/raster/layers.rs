@@ -7,6 +7,70 @@
 
 use super::{PixelSpan, ceil_small};
 
+/// One write into [`Layers`], as recorded for a replay: the same writes
+/// give the same counts, in any order (extents widen by min and max, counts
+/// add as integers).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Write {
+    /// Row `row`'s part that may hold non-zero differences widened to the
+    /// cells `cols.0..cols.1`.
+    Widen { row: u32, cols: (u32, u32) },
+    /// `delta` added to the difference in cell `cell` (row-major, `width + 1`
+    /// cells a row).
+    Add { cell: u32, delta: i32 },
+    /// The writes that follow are to the layers of target `i` of the
+    /// image scratch's (a marker of its records; layers neither make nor
+    /// redo it).
+    Target(u32),
+}
+
+impl Write {
+    /// Whether layers of `width × height` pixels have their writes
+    /// [packed](Self::pack): rows and columns in 16 and 17 bits, cells in
+    /// 31.
+    pub(crate) fn fits(width: u32, height: u32) -> bool {
+        width < 1 << 16 && height < 1 << 16 && (u64::from(width) + 1) * u64::from(height) < 1 << 31
+    }
+
+    /// The write in 8 bytes (half the enum's): an add as its cell over its
+    /// difference; a widen as its row and columns; a marker as its target.
+    /// The top two bits tell them apart. Rows, columns and cells must be of
+    /// layers that [`fits`](Self::fits).
+    pub(crate) fn pack(self) -> u64 {
+        match self {
+            Self::Add { cell, delta } => u64::from(cell) << 32 | u64::from(delta as u32),
+            Self::Widen { row, cols } => {
+                WIDEN | u64::from(row) << 34 | u64::from(cols.0) << 17 | u64::from(cols.1)
+            }
+            Self::Target(i) => TARGET | u64::from(i),
+        }
+    }
+
+    /// The write `bits` [packs](Self::pack).
+    #[inline]
+    pub(crate) fn unpack(bits: u64) -> Self {
+        const COL: u64 = (1 << 17) - 1;
+        match bits & TARGET {
+            TARGET => Self::Target(bits as u32),
+            WIDEN => Self::Widen {
+                row: (bits >> 34) as u32 & 0xffff,
+                cols: ((bits >> 17 & COL) as u32, (bits & COL) as u32),
+            },
+            _ => Self::Add {
+                cell: (bits >> 32) as u32,
+                delta: bits as u32 as i32,
+            },
+        }
+    }
+}
+
+/// The top two bits of a packed widen, and of a packed target marker.
+const WIDEN: u64 = 0b10 << 62;
+const TARGET: u64 = 0b11 << 62;
+
+/// Cells [`Layers::move_into`] tests at once.
+const BLOCK: usize = 16;
+
 /// Per-row differences of the triangle count over an image.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Layers {
@@ -85,6 +149,65 @@ impl Layers {
         self.diff[base + s.c1 as usize] -= 1;
     }
 
+    /// Adds these counts (one instance's) to `into` (of the same size,
+    /// which [`Write::fits`]), appends the writes that did so to `log`
+    /// ([packed](Write::pack)), and sets these back to
+    /// zero: per row with a part that may be non-zero, that part widened,
+    /// and its non-zero differences added. Counts add up, so `into` ends as
+    /// if the instance had been drawn into it directly.
+    pub(crate) fn move_into(&mut self, into: &mut Layers, log: &mut Vec<u64>) {
+        let stride = self.width as usize + 1;
+        for r in self.rows.0..self.rows.1 {
+            let (c0, c1) = std::mem::replace(&mut self.extent[r as usize], (u32::MAX, 0));
+            if c0 >= c1 {
+                continue;
+            }
+            let w = Write::Widen {
+                row: r,
+                cols: (c0, c1),
+            };
+            into.redo(w);
+            log.push(w.pack());
+            let start = r as usize * stride + c0 as usize;
+            let cells = start..r as usize * stride + c1 as usize;
+            let (from, to) = (&mut self.diff[cells.clone()], &mut into.diff[cells]);
+            // Most of a bounding box is zero: blocks of it are tested at
+            // once (the test vectorizes), and only the non-zero ones read
+            // cell by cell.
+            let mut offset = start;
+            for (from, to) in from.chunks_mut(BLOCK).zip(to.chunks_mut(BLOCK)) {
+                if from.iter().fold(0, |any, &d| any | d) != 0 {
+                    for (j, (d, t)) in from.iter_mut().zip(to).enumerate() {
+                        let delta = std::mem::take(d);
+                        if delta != 0 {
+                            *t += delta;
+                            log.push(
+                                Write::Add {
+                                    cell: (offset + j) as u32,
+                                    delta,
+                                }
+                                .pack(),
+                            );
+                        }
+                    }
+                }
+                offset += BLOCK;
+            }
+        }
+        self.rows = (self.height, 0);
+    }
+
+    /// Makes a recorded write again (a [`Write::Target`] marker does
+    /// nothing).
+    #[inline]
+    pub(crate) fn redo(&mut self, w: Write) {
+        match w {
+            Write::Widen { row, cols } => self.widen((row, row + 1), cols),
+            Write::Add { cell, delta } => self.diff[cell as usize] += delta,
+            Write::Target(_) => {}
+        }
+    }
+
     /// Calls `f` with each row that may hold covered pixels, its first
     /// column, and the differences from there (to one past the last cell
     /// that may be non-zero; the count is zero left of them).
@@ -144,4 +267,27 @@ pub(crate) fn column(x: f64, w: f64) -> u32 {
     let x = if x > 0.0 { x } else { 0.0 };
     let x = if x < w { x } else { w };
     ceil_small(x - 0.5) as u32
+}
+
+#[cfg(test)]
+mod tests {
+    use proptest::prelude::*;
+
+    use super::*;
+
+    proptest! {
+        /// Every write of layers that fit comes back from its packing.
+        #[test]
+        fn writes_unpack_to_themselves(
+            cell in 0u32..1 << 31,
+            delta: i32,
+            row in 0u32..1 << 16,
+            cols in (0u32..1 << 17, 0u32..1 << 17),
+            target: u32,
+        ) {
+            for w in [Write::Add { cell, delta }, Write::Widen { row, cols }, Write::Target(target)] {
+                prop_assert_eq!(Write::unpack(w.pack()), w);
+            }
+        }
+    }
 }
