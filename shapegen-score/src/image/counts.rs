@@ -65,15 +65,18 @@ impl ImageScratch {
     /// Working memory for `targets`.
     #[must_use]
     pub fn new(targets: &[ImageTarget]) -> Self {
+        let layers: Vec<Layers> = targets
+            .iter()
+            .map(|t| Layers::new(t.camera.width, t.camera.height))
+            .collect();
         Self {
             work: Work {
-                layers: targets
-                    .iter()
-                    .map(|t| Layers::new(t.camera.width, t.camera.height))
-                    .collect(),
+                // Made here, not at the first record: evaluations after the
+                // first ones allocate nothing.
+                alone: layers.clone(),
+                layers,
                 views: targets.iter().map(|t| View::new(&t.camera)).collect(),
                 rasterizer: Rasterizer::new(),
-                alone: Vec::new(),
             },
             cache: WriteCache::new(CACHE_WRITES, CACHE_INSTANCES),
         }
@@ -144,13 +147,8 @@ impl ImageScratch {
                 } = work;
                 // Drawn alone, then moved: the rasterizer's inner loops stay
                 // as they are, and the record has one write a changed cell.
-                alone.resize_with(layers.len(), Layers::default);
                 let seen = layers.iter_mut().zip(views.iter()).zip(alone.iter_mut());
                 for (i, ((layers, view), alone)) in seen.take(targets.len()).enumerate() {
-                    if alone.size() != layers.size() {
-                        let (w, h) = layers.size();
-                        *alone = Layers::new(w, h);
-                    }
                     writes.push(Write::Target(i as u32).pack());
                     rasterizer.draw(view, raster, transform, alone);
                     alone.move_into(layers, writes);
@@ -208,11 +206,14 @@ impl Work {
     /// scratch has (new cameras); whether any did.
     fn take_views(&mut self, targets: &[ImageTarget]) -> bool {
         let mut changed = false;
-        for ((target, layers), view) in targets.iter().zip(&mut self.layers).zip(&mut self.views) {
+        let each = (self.layers.iter_mut().zip(&mut self.alone)).zip(&mut self.views);
+        for (target, ((layers, alone), view)) in targets.iter().zip(each) {
             if view.camera() != &target.camera {
                 *view = View::new(&target.camera);
-                if layers.size() != (target.camera.width, target.camera.height) {
-                    *layers = Layers::new(target.camera.width, target.camera.height);
+                let size = (target.camera.width, target.camera.height);
+                if layers.size() != size {
+                    *layers = Layers::new(size.0, size.1);
+                    *alone = Layers::new(size.0, size.1);
                 }
                 changed = true;
             }
