@@ -98,19 +98,10 @@ impl<T, M: Copy> InstanceCache<T, M> {
         match self.instances.entry(InstanceKey::new(shape, transform)) {
             Entry::Occupied(hit) => {
                 let Cached { items, summary } = *hit.get();
-                replay(
-                    ctx,
-                    &self.items[items.0 as usize..items.1 as usize],
-                    summary,
-                );
+                replay(ctx, slice(&self.items, items), summary);
             }
             Entry::Vacant(miss) => {
-                let first = self.items.len() as u32;
-                let summary = record(ctx, &mut self.items);
-                miss.insert(Cached {
-                    items: (first, self.items.len() as u32),
-                    summary,
-                });
+                miss.insert(recorded(&mut self.items, ctx, record));
             }
         }
     }
@@ -136,18 +127,9 @@ impl<T, M: Copy> InstanceCache<T, M> {
             Entry::Occupied(mut hit) => {
                 let Cached { items, summary } = *hit.get();
                 if items == SEEN {
-                    let first = self.items.len() as u32;
-                    let summary = record(ctx, &mut self.items);
-                    *hit.get_mut() = Cached {
-                        items: (first, self.items.len() as u32),
-                        summary,
-                    };
+                    *hit.get_mut() = recorded(&mut self.items, ctx, record);
                 } else {
-                    replay(
-                        ctx,
-                        &self.items[items.0 as usize..items.1 as usize],
-                        summary,
-                    );
+                    replay(ctx, slice(&self.items, items), summary);
                 }
             }
             Entry::Vacant(miss) => {
@@ -170,3 +152,22 @@ impl<T, M: Copy> InstanceCache<T, M> {
 /// The items of an instance seen once and not recorded (see
 /// [`InstanceCache::add_recording_second`]).
 const SEEN: (u32, u32) = (u32::MAX, u32::MAX);
+
+/// A new instance's record: `record` appends its items to `items`.
+fn recorded<T, M, C>(
+    items: &mut Vec<T>,
+    ctx: &mut C,
+    record: impl FnOnce(&mut C, &mut Vec<T>) -> M,
+) -> Cached<M> {
+    let first = items.len() as u32;
+    let summary = record(ctx, items);
+    Cached {
+        items: (first, items.len() as u32),
+        summary,
+    }
+}
+
+/// The items `range` of a record.
+fn slice<T>(items: &[T], range: (u32, u32)) -> &[T] {
+    &items[range.0 as usize..range.1 as usize]
+}

@@ -90,9 +90,7 @@ impl ImageScratch {
     /// Adds one instance, seen by each of `targets` (those the scratch was
     /// made for; others are taken in, at the cost of preparing them).
     pub fn add(&mut self, targets: &[ImageTarget], shape: &RasterShape, transform: &Affine3A) {
-        if self.work.take_views(targets) {
-            self.cache.clear();
-        }
+        self.take_targets(targets);
         self.work.draw(targets.len(), shape, transform);
     }
 
@@ -102,10 +100,11 @@ impl ImageScratch {
     /// makes that one's writes again instead of being drawn, with the same
     /// counts. An instance's writes are recorded the second time it is
     /// added (the first, it is drawn as by `add`: most instances of a
-    /// random population are never seen again). Only shapes with more
-    /// vertices than a box or a frustum are remembered (those are drawn
-    /// faster than their writes are recorded), and only for images less
-    /// than 65,536 pixels wide and high.
+    /// random population are never seen again). Only shapes with more than
+    /// 16 vertices are remembered (boxes and the built-in leaf are drawn
+    /// faster than their writes are recorded; see
+    /// [`RasterShape::worth_replaying`]), and only for images less than
+    /// 65,536 pixels wide and high.
     pub fn add_shape(
         &mut self,
         targets: &[ImageTarget],
@@ -113,21 +112,18 @@ impl ImageScratch {
         raster: &RasterShape,
         transform: &Affine3A,
     ) {
-        if self.work.take_views(targets) {
-            self.cache.clear();
-        }
-        let fits = (self.work.layers.iter().take(targets.len()))
-            .all(|l| Write::fits(l.size().0, l.size().1));
+        self.take_targets(targets);
+        let n = targets.len();
+        let fits = (self.work.layers.iter().take(n)).all(|l| Write::fits(l.size().0, l.size().1));
         if !(raster.worth_replaying() && fits) {
-            self.work.draw(targets.len(), raster, transform);
+            self.work.draw(n, raster, transform);
             return;
         }
-        let seen = targets.len();
         self.cache.add_recording_second(
             shape,
             transform,
             &mut self.work,
-            |work| work.draw(seen, raster, transform),
+            |work| work.draw(n, raster, transform),
             |work, writes, ()| {
                 // Every record starts with a target marker.
                 let mut target = 0;
@@ -148,13 +144,21 @@ impl ImageScratch {
                 // Drawn alone, then moved: the rasterizer's inner loops stay
                 // as they are, and the record has one write a changed cell.
                 let seen = layers.iter_mut().zip(views.iter()).zip(alone.iter_mut());
-                for (i, ((layers, view), alone)) in seen.take(targets.len()).enumerate() {
+                for (i, ((layers, view), alone)) in seen.take(n).enumerate() {
                     writes.push(Write::Target(i as u32).pack());
                     rasterizer.draw(view, raster, transform, alone);
                     alone.move_into(layers, writes);
                 }
             },
         );
+    }
+
+    /// Prepares the views of `targets` where they differ from the ones the
+    /// scratch has, and forgets the instances drawn for the old ones.
+    fn take_targets(&mut self, targets: &[ImageTarget]) {
+        if self.work.take_views(targets) {
+            self.cache.clear();
+        }
     }
 
     /// The counts of the model added since [`begin`](Self::begin), over
