@@ -115,7 +115,8 @@ impl GBuffer {
 
     /// Draws face `index` over span `s` with depth keys from `plane`: a
     /// pixel takes the face if it is strictly nearer than what it holds
-    /// (branch-free: the nearer key and its face are selected).
+    /// (branch-free: the nearer key and its face are selected). The caller
+    /// adds the span's length to the face with [`add_drawn`](Self::add_drawn).
     #[inline]
     pub(crate) fn span(&mut self, s: PixelSpan, index: u32, plane: &Plane) {
         let row = s.row as usize * self.width as usize;
@@ -130,17 +131,28 @@ impl GBuffer {
             *f = if nearer { index } else { *f };
             x += 1.0;
         }
-        self.faces[index as usize].drawn += s.c1 - s.c0;
+    }
+
+    /// Adds `n` to face `index`'s pixels before occlusion (its spans' lengths).
+    #[inline]
+    pub(crate) fn add_drawn(&mut self, index: u32, n: u32) {
+        self.faces[index as usize].drawn += n;
     }
 
     /// The pixels an instance whose vertices project into `[lo, hi]` can
     /// cover (one pixel more on each side for rounding), clamped to the image.
     pub(crate) fn pixel_box(&self, lo: glam::DVec2, hi: glam::DVec2) -> PixelBox {
         let (w, h) = (self.width as f64, self.height as f64);
-        let clamp = |v: f64, max: f64| v.clamp(0.0, max) as usize;
         if !(lo.x < w + 1.0 && lo.y < h + 1.0 && hi.x > -1.0 && hi.y > -1.0) {
             return (1, 1, 0, 0);
         }
+        // Plain comparisons (`f64::clamp` checks its bounds and NaN): `v`
+        // is not NaN here (the test above failed for NaN bounds), and the
+        // clamped value converts exactly.
+        let clamp = |v: f64, max: f64| {
+            let v = if v > 0.0 { v } else { 0.0 };
+            (if v < max { v } else { max }) as u32 as usize
+        };
         (
             clamp(lo.x - 1.0, w - 1.0),
             clamp(lo.y - 1.0, h - 1.0),
@@ -180,14 +192,26 @@ impl GBuffer {
         let (w, h) = (self.width as usize, self.height as usize);
         for ty in y0 / TILE..=y1 / TILE {
             for tx in x0 / TILE..=x1 / TILE {
-                let mut max = f64::NEG_INFINITY;
+                // Four running maxima, so that the loop runs on vectors
+                // (a key is never NaN, so the order of comparisons does not
+                // change the maximum).
+                let mut max = [f64::NEG_INFINITY; 4];
+                let (c0, c1) = (tx * TILE, ((tx + 1) * TILE).min(w));
                 for y in ty * TILE..((ty + 1) * TILE).min(h) {
-                    let row = &self.depth[y * w + tx * TILE..y * w + ((tx + 1) * TILE).min(w)];
-                    for &d in row {
-                        max = if d > max { d } else { max };
+                    let row = &self.depth[y * w + c0..y * w + c1];
+                    let mut quads = row.chunks_exact(4);
+                    for q in &mut quads {
+                        for i in 0..4 {
+                            max[i] = if q[i] > max[i] { q[i] } else { max[i] };
+                        }
+                    }
+                    for (i, &d) in quads.remainder().iter().enumerate() {
+                        max[i] = if d > max[i] { d } else { max[i] };
                     }
                 }
-                self.tile_max[ty * self.tiles_wide + tx] = max;
+                let pair = |a: f64, b: f64| if a > b { a } else { b };
+                self.tile_max[ty * self.tiles_wide + tx] =
+                    pair(pair(max[0], max[1]), pair(max[2], max[3]));
             }
         }
     }

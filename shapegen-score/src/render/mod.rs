@@ -392,17 +392,17 @@ impl Renderer {
         // The eye's side of the face, in the model's terms.
         let [a, b, c] = t.map(|i| self.view[i as usize]);
         let raw = (b - a).cross(c - a) * ctx.turn;
-        let (toward, scale) = if ctx.perspective {
-            (-raw.dot(a), a.length())
+        let (toward, scale2) = if ctx.perspective {
+            (-raw.dot(a), a.length_squared())
         } else {
             (-raw.z, 1.0)
         };
-        // With a margin: a face seen nearly edge on may be met first.
-        let margin = 1e-9 * raw.length() * scale;
-        let plus = toward > margin;
-        if !plus && toward >= -margin {
+        // With a margin of 10⁻⁹·|raw|·scale (compared squared, without
+        // roots): a face seen nearly edge on may be met first.
+        if toward * toward <= 1e-18 * raw.length_squared() * scale2 {
             return Facing::First;
         }
+        let plus = toward > 0.0;
         if (side == FirstHit::Plus && plus) || (side == FirstHit::Minus && !plus) {
             return Facing::First;
         }
@@ -441,9 +441,11 @@ impl Renderer {
                 return;
             }
         }
-        // The face and its depth plane are made on its first span: many
-        // triangles cover no pixel centre.
+        // The face and its depth plane are made on its first span (many
+        // triangles cover no pixel centre); its pixels are counted here and
+        // added to the face once.
         let mut made: Option<(u32, Plane)> = None;
+        let mut drawn = 0;
         let gbuffer = &mut self.gbuffer;
         let mut f = |s: crate::PixelSpan| {
             let (index, plane) = *made.get_or_insert_with(|| {
@@ -455,23 +457,27 @@ impl Renderer {
                 )
             });
             gbuffer.span(s, index, &plane);
+            drawn += s.c1 - s.c0;
         };
         if in_range(&a) && in_range(&b) && in_range(&c) {
             let px = t.map(|i| self.pixels[i as usize]);
             fill_triangle(camera, px, &mut f);
-            return;
+        } else {
+            self.clip.clear();
+            self.clip.extend([a, b, c]);
+            clip_depth(&mut self.clip, &mut self.clip2, near, far);
+            if self.clip.len() < 3 {
+                return;
+            }
+            let proj = camera.projector();
+            self.hull.clear();
+            self.hull
+                .extend(self.clip.iter().map(|v| proj.to_pixel(*v)));
+            fill_convex(camera, &self.hull, &mut self.edges, &mut f);
         }
-        self.clip.clear();
-        self.clip.extend([a, b, c]);
-        clip_depth(&mut self.clip, &mut self.clip2, near, far);
-        if self.clip.len() < 3 {
-            return;
+        if let Some((index, _)) = made {
+            self.gbuffer.add_drawn(index, drawn);
         }
-        let proj = camera.projector();
-        self.hull.clear();
-        self.hull
-            .extend(self.clip.iter().map(|v| proj.to_pixel(*v)));
-        fill_convex(camera, &self.hull, &mut self.edges, &mut f);
     }
 }
 
