@@ -190,6 +190,7 @@ impl GBuffer {
             return;
         }
         let (w, h) = (self.width as usize, self.height as usize);
+        let larger = |a: f64, b: f64| if a > b { a } else { b };
         for ty in y0 / TILE..=y1 / TILE {
             for tx in x0 / TILE..=x1 / TILE {
                 // Four running maxima, so that the loop runs on vectors
@@ -202,16 +203,15 @@ impl GBuffer {
                     let mut quads = row.chunks_exact(4);
                     for q in &mut quads {
                         for i in 0..4 {
-                            max[i] = if q[i] > max[i] { q[i] } else { max[i] };
+                            max[i] = larger(q[i], max[i]);
                         }
                     }
                     for (i, &d) in quads.remainder().iter().enumerate() {
-                        max[i] = if d > max[i] { d } else { max[i] };
+                        max[i] = larger(d, max[i]);
                     }
                 }
-                let pair = |a: f64, b: f64| if a > b { a } else { b };
                 self.tile_max[ty * self.tiles_wide + tx] =
-                    pair(pair(max[0], max[1]), pair(max[2], max[3]));
+                    larger(larger(max[0], max[1]), larger(max[2], max[3]));
             }
         }
     }
