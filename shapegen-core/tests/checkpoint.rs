@@ -103,6 +103,16 @@ fn every_optimizer_resumes_bit_identically() {
             }),
             seed,
         );
+        check(
+            &Ga::new(GaParams {
+                population: 40,
+                elites: 8,
+                init,
+                adaptive_split: true,
+                ..GaParams::paper_spaceship()
+            }),
+            seed,
+        );
         check(&Smc::new(SmcParams::paper(60)), seed);
         check(&Smc::new(SmcParams::paper_sosmc(60)), seed);
         check(&Rjmcmc::new(RjmcmcParams::paper(20, init)), seed);
@@ -123,6 +133,35 @@ fn every_optimizer_resumes_bit_identically() {
             };
             check(&IslandGa::new(params), seed);
         }
+        // An adaptive split in every method that runs the GA: islands (one
+        // split per island), the hybrid's GA phase and the tandem.
+        let adaptive = GaParams {
+            adaptive_split: true,
+            ..ga
+        };
+        check(
+            &IslandGa::new(IslandParams {
+                ga: adaptive,
+                islands: 3,
+                interval: 2,
+                migrants: 2,
+                topology: Topology::Ring,
+            }),
+            seed,
+        );
+        check(
+            &Hybrid::new(HybridParams {
+                ga: adaptive,
+                rjmcmc: RjmcmcParams::paper(6, init),
+                patience: 100,
+                patience_share: HYBRID_PATIENCE_SHARE,
+            }),
+            seed,
+        );
+        check(
+            &Tandem::new(TandemParams::new(adaptive, RjmcmcParams::paper(6, init))),
+            seed,
+        );
         // On blocks the GA keeps improving: switching late or never.
         for patience in [2, 8, 100] {
             let params = HybridParams {
@@ -239,7 +278,7 @@ fn foreign_checkpoints_are_refused() {
     assert!(why.contains("chromosome"), "{why}");
     // A tampered chromosome fails validation instead of panicking.
     let mut bad = cp.clone();
-    let SavedState::Population { individuals } = &mut bad.state else {
+    let SavedState::Population { individuals, .. } = &mut bad.state else {
         panic!("a GA checkpoint holds a population")
     };
     individuals[0].chromosome.words[1] ^= 0xffff;

@@ -113,6 +113,28 @@ fn local_search_larger_than_the_children_is_refused() {
     );
 }
 
+/// The GA with an adaptive mutation split.
+fn adaptive_ga() -> Ga {
+    Ga::new(GaParams {
+        adaptive_split: true,
+        ..ga().params
+    })
+}
+
+#[test]
+fn adaptive_split_reaches_the_optimum_and_beats_random_search() {
+    crate::common::reaches_the_blocks_optimum(|_| adaptive_ga(), &[1, 2, 3]);
+}
+
+#[test]
+fn adaptive_split_is_deterministic_whatever_the_thread_count() {
+    let (one, other) = crate::common::same_result_whatever_the_thread_count(&adaptive_ga(), 40);
+    assert_ne!(one.best, other.best);
+    // And it changes the run.
+    let (plain, _) = crate::common::same_result_whatever_the_thread_count(&ga(), 40);
+    assert_ne!(one.population, plain.population);
+}
+
 proptest::proptest! {
     #![proptest_config(proptest::prelude::ProptestConfig { cases: 32, ..Default::default() })]
 
@@ -123,6 +145,7 @@ proptest::proptest! {
         graph in crate::common::graph(),
         seed in proptest::prelude::any::<u64>(),
         local_search in 1usize..=8,
+        adaptive_split in proptest::prelude::any::<bool>(),
     ) {
         let f = FnFitness(|c: &Chromosome| -(c.len() as f64 - 10.0).abs());
         let params = GaParams {
@@ -130,6 +153,7 @@ proptest::proptest! {
             elites: 2,
             init: InitLength::Between { lo: 1, hi: 30 },
             local_search,
+            adaptive_split,
             ..GaParams::paper_spaceship()
         };
         let mut check = |s: &GenerationStats<'_>| {

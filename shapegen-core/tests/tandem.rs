@@ -32,7 +32,7 @@ fn both_sides_run_and_report_together() {
         let SavedState::Tandem { ga, chains } = s.checkpoint().state else {
             panic!("a tandem saves a tandem state");
         };
-        let (SavedState::Population { individuals }, SavedState::Chains { chains, .. }) =
+        let (SavedState::Population { individuals, .. }, SavedState::Chains { chains, .. }) =
             (*ga, *chains)
         else {
             panic!("a GA population and chains");
@@ -91,14 +91,14 @@ proptest! {
 
     /// Every model of tandem runs on random graphs is a valid chromosome.
     #[test]
-    fn models_are_valid_chromosomes(graph in crate::common::graph(), seed in any::<u64>(), interval in 1u64..4, local_search in 0usize..3) {
+    fn models_are_valid_chromosomes(graph in crate::common::graph(), seed in any::<u64>(), interval in 1u64..4, local_search in 0usize..3, adaptive_split in any::<bool>()) {
         let f = FnFitness(|c: &Chromosome| -(c.len() as f64 - 10.0).abs());
         let init = InitLength::Between { lo: 1, hi: 30 };
         let params = TandemParams {
             interval,
             migrants: 2,
             ..TandemParams::new(
-                GaParams { population: 10, elites: 2, init, local_search, ..GaParams::paper_spaceship() },
+                GaParams { population: 10, elites: 2, init, local_search, adaptive_split, ..GaParams::paper_spaceship() },
                 RjmcmcParams::paper(4, init),
             )
         };

@@ -123,7 +123,7 @@ impl SavedRun {
 /// fitness (SMC particles are partial models and are not checked).
 fn stored_models(state: &SavedState) -> Result<Vec<&SavedIndividual>, String> {
     Ok(match state {
-        SavedState::Population { individuals } => {
+        SavedState::Population { individuals, .. } => {
             if individuals.is_empty() {
                 return Err("the checkpoint's population is empty".into());
             }
@@ -141,7 +141,7 @@ fn stored_models(state: &SavedState) -> Result<Vec<&SavedIndividual>, String> {
             }
             Vec::new()
         }
-        SavedState::Islands { islands } => {
+        SavedState::Islands { islands, .. } => {
             if islands.iter().all(Vec::is_empty) {
                 return Err("the checkpoint's islands are empty".into());
             }

@@ -222,6 +222,7 @@ pub(super) struct GaFile {
     pub tournament: Option<usize>,
     pub elite_dedup: Option<bool>,
     pub local_search: Option<usize>,
+    pub adaptive_split: Option<bool>,
     pub max_retries: Option<u32>,
     pub crossover: Option<EdgeMatchFile>,
     pub budget: Option<Spanned<BudgetFile>>,
@@ -288,7 +289,7 @@ pub(super) struct HybridFile {
 }
 
 /// `[tandem]`: the `[ga]` and `[rjmcmc]` settings, and how they trade; the
-/// GA's `local_search` and `elite_dedup` are the tandem's own.
+/// GA's `local_search`, `elite_dedup` and `adaptive_split` are the tandem's own.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct TandemFile {
@@ -296,6 +297,7 @@ pub(super) struct TandemFile {
     pub migrants: Option<usize>,
     pub local_search: Option<usize>,
     pub elite_dedup: Option<bool>,
+    pub adaptive_split: Option<bool>,
     pub budget: Option<Spanned<BudgetFile>>,
 }
 

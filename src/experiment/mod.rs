@@ -87,6 +87,7 @@
 //! split = { grow = 13.5, cut = 13.5, alter = 3.0 }
 //! # tournament = 10, elite_dedup = false, max_retries = 3,
 //! # local_search = 0        # children a generation that are one chain move from the best distinct models
+//! # adaptive_split = false  # true: the grow/cut/alter shares follow how often each one's children beat their parent
 //! # crossover = "strict" (same graph edge, the paper) | "child_type" (same child node, the authors' code)
 //! budget = { generations = 130 }
 //!

@@ -596,3 +596,32 @@ fn the_gas_local_search_is_read_and_checked() {
     assert_eq!(key, "ga");
     assert!(msg.contains("local_search (41)"), "{msg}");
 }
+
+#[test]
+fn the_adaptive_split_is_read_for_the_ga_and_the_tandem() {
+    let ga = |adaptive: &str| {
+        format!(
+            "[ga]\npopulation = 50\nelites = 10\ninit_length = 30\nmutation_rate = 0.3\nsplit = {{ grow = 1.0, cut = 1.0, alter = 1.0 }}\n{adaptive}"
+        )
+    };
+    let e = load(&format!("{MINIMAL}{}", ga(""))).unwrap();
+    assert!(matches!(e.method(Method::Ga).params, MethodParams::Ga(p) if !p.adaptive_split));
+    assert!(
+        matches!(e.method(Method::Tandem).params, MethodParams::Tandem(p) if !p.ga.adaptive_split)
+    );
+    let e = load(&format!("{MINIMAL}{}", ga("adaptive_split = true\n"))).unwrap();
+    assert!(matches!(e.method(Method::Ga).params, MethodParams::Ga(p) if p.adaptive_split));
+    // The tandem's own setting wins over the GA's.
+    let e = load(&format!(
+        "{MINIMAL}{}[tandem]\nadaptive_split = true\n",
+        ga("")
+    ))
+    .unwrap();
+    assert!(matches!(e.method(Method::Ga).params, MethodParams::Ga(p) if !p.adaptive_split));
+    assert!(
+        matches!(e.method(Method::Tandem).params, MethodParams::Tandem(p) if p.ga.adaptive_split)
+    );
+    let (_, key, msg) = invalid(&format!("{MINIMAL}{}", ga("adaptive_split = 1\n")));
+    assert_eq!(key, "ga.adaptive_split", "{msg}");
+    assert!(msg.contains("boolean"), "{msg}");
+}

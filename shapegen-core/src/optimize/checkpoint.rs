@@ -78,6 +78,10 @@ pub enum SavedState {
     Population {
         /// The individuals.
         individuals: Vec<SavedIndividual>,
+        /// The GA's adaptive mutation split, if it uses one (IEEE-754 bits
+        /// of [`AdaptiveSplit`](super::AdaptiveSplit)'s qualities).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        split_bits: Option<[u64; 3]>,
     },
     /// SMC/SOSMC particles before resampling.
     Particles {
@@ -95,6 +99,10 @@ pub enum SavedState {
     Islands {
         /// One population per island, in island order.
         islands: Vec<Vec<SavedIndividual>>,
+        /// Each island's adaptive mutation split, if the GA uses one (see
+        /// [`SavedState::Population`]); empty otherwise.
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        split_bits: Vec<[u64; 3]>,
     },
     /// The hybrid: the current phase's state (a GA population or RJMCMC
     /// chains) and, in the GA phase, its best and how long it has stalled.

@@ -7,6 +7,7 @@ use std::ops::ControlFlow;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use super::adaptive_split::{AdaptiveSplit, Origin};
 use super::checkpoint::{Checkpoint, SavedIndividual, SavedState};
 use super::driver::{Context, Method, Run, drive};
 use super::evaluation::Candidate;
@@ -18,6 +19,7 @@ use crate::graph::Graph;
 use crate::ops::{
     CrossoverConfig, InitLength, MutationSplit, crossover, mutate, random_individual,
 };
+
 use crate::rng::{ShapeRng, stream};
 
 /// The stream `(seed, base..., island)`; a lone GA (`island = None`) draws
@@ -57,6 +59,12 @@ pub struct GaParams {
     /// individuals, in turn. 0 (the paper): none.
     #[serde(default)]
     pub local_search: usize,
+    /// An adaptive mutation split: the shares of grow, cut and alter start
+    /// from `mutation_split` and then follow how often each one's children
+    /// beat their parent ([`AdaptiveSplit`]); `mutation_rate` stays fixed.
+    /// `false` (the paper): the fixed split.
+    #[serde(default)]
+    pub adaptive_split: bool,
 }
 
 impl Default for GaParams {
@@ -84,6 +92,7 @@ impl GaParams {
             roulette: RouletteShift::IfNegative,
             elite_dedup: false,
             local_search: 0,
+            adaptive_split: false,
         }
     }
 
@@ -221,22 +230,37 @@ impl Ga {
             population,
             wheel,
             scores,
+            split,
+            origins,
         } = state;
+        let split = if self.params.adaptive_split {
+            split
+                .get_or_insert_with(|| AdaptiveSplit::new(&self.params.mutation_split))
+                .split()
+        } else {
+            self.params.mutation_split
+        };
         let mut next = self.elites(graph, population);
         scores.clear();
         scores.extend(population.iter().map(|i| i.fitness));
         wheel.rebuild(scores, self.params.roulette);
         let local = self.local_moves(graph, population, seed, generation, island);
         let missing = self.params.population - next.len() - local.len();
-        let children: Vec<Candidate> = (0..missing.div_ceil(2) as u64)
+        let children: Vec<(Candidate, Origin)> = (0..missing.div_ceil(2) as u64)
             .into_par_iter()
             .flat_map_iter(|i| {
                 let mut rng = island_stream(seed, [generation, i, purpose::BREED], island);
-                self.breed_pair(graph, population, wheel, &mut rng)
+                self.breed_pair(graph, population, wheel, &split, &mut rng)
             })
             .collect();
+        origins.clear();
+        if self.params.adaptive_split {
+            origins.resize(next.len(), None);
+            origins.extend(children.iter().take(missing).map(|(_, o)| *o));
+            origins.resize(origins.len() + local.len(), None);
+        }
         // With one place left, only the pair's first child is kept.
-        next.extend(children.into_iter().take(missing));
+        next.extend(children.into_iter().take(missing).map(|(c, _)| c));
         next.extend(local);
         next
     }
@@ -296,13 +320,17 @@ impl Ga {
             .collect()
     }
 
+    /// A pair of children, each with the mutation that made it and its
+    /// parent's fitness (none for crossovers); `split` is this generation's
+    /// mutation split (the parameters' own, or the adaptive one).
     fn breed_pair(
         &self,
         graph: &Graph,
         sorted: &[Individual],
         wheel: &Roulette,
+        split: &MutationSplit,
         rng: &mut ShapeRng,
-    ) -> [Candidate; 2] {
+    ) -> [(Candidate, Origin); 2] {
         let p = &self.params;
         let a = &sorted[tournament(sorted.len(), p.tournament, rng)];
         let b = &sorted[wheel.pick(rng)];
@@ -313,15 +341,16 @@ impl Ga {
         if rand::RngExt::random_bool(rng, p.mutation_rate) {
             [a, b].map(|parent| {
                 let mut child = copy(parent);
-                if mutate(graph, &mut child.chromosome, &p.mutation_split, rng).1 {
+                let (kind, changed) = mutate(graph, &mut child.chromosome, split, rng);
+                if changed {
                     child.fitness = None;
                 }
-                child
+                (child, Some((kind, parent.fitness)))
             })
         } else {
             match crossover(graph, &a.chromosome, &b.chromosome, &p.crossover, rng) {
-                Some((c1, c2)) => [Candidate::new(c1), Candidate::new(c2)],
-                None => [copy(a), copy(b)],
+                Some((c1, c2)) => [(Candidate::new(c1), None), (Candidate::new(c2), None)],
+                None => [(copy(a), None), (copy(b), None)],
             }
         }
     }
@@ -337,11 +366,17 @@ impl Optimizer for Ga {
     }
 }
 
-/// The GA's state: the population, and the roulette and score buffers reused across generations.
+/// The GA's state: the population, the roulette and score buffers reused
+/// across generations, and with an adaptive split, the split and where each
+/// candidate of the generation being evaluated came from.
 pub(crate) struct GaState {
     pub population: Vec<Individual>,
     wheel: Roulette,
     scores: Vec<f64>,
+    /// The adaptive split (made by the first generation that uses it).
+    pub split: Option<AdaptiveSplit>,
+    /// The origin of each candidate `next_generation` returned last.
+    origins: Vec<Origin>,
 }
 
 impl GaState {
@@ -352,9 +387,23 @@ impl GaState {
             scores: Vec::with_capacity(population.len()),
             population: Vec::new(),
             wheel: Roulette::default(),
+            split: None,
+            origins: Vec::new(),
         };
         state.replace(population);
         state
+    }
+
+    /// Makes `evaluated`, the candidates of the last `next_generation` in
+    /// their order, the current population; an adaptive split learns from it.
+    pub fn settle(&mut self, evaluated: Vec<Individual>) {
+        if let Some(split) = &mut self.split
+            && self.origins.len() == evaluated.len()
+        {
+            split.learn(&self.origins, &evaluated);
+        }
+        self.origins.clear();
+        self.replace(evaluated);
     }
 
     /// Makes `population` the current one, sorted best first.
@@ -371,7 +420,11 @@ impl Ga {
         graph: &Graph,
         saved: &SavedState,
     ) -> Result<GaState, OptimizeError> {
-        let SavedState::Population { individuals } = saved else {
+        let SavedState::Population {
+            individuals,
+            split_bits,
+        } = saved
+        else {
             return Err(OptimizeError::Checkpoint(
                 "it holds no GA population".into(),
             ));
@@ -387,7 +440,9 @@ impl Ga {
             .iter()
             .map(|i| i.restore(graph))
             .collect::<Result<Vec<_>, _>>()?;
-        Ok(GaState::new(population))
+        let mut state = GaState::new(population);
+        state.split = split_bits.map(AdaptiveSplit::from_bits);
+        Ok(state)
     }
 
     /// The state a checkpoint saves.
@@ -398,6 +453,7 @@ impl Ga {
                 .iter()
                 .map(|i| SavedIndividual::save(graph, i))
                 .collect(),
+            split_bits: state.split.map(AdaptiveSplit::to_bits),
         }
     }
 }
@@ -450,7 +506,7 @@ impl Method for Ga {
         let next = self.next_generation(cx.graph, state, cx.seed, cx.generation(), None);
         match cx.evaluate_interruptible(next) {
             Some(evaluated) => {
-                state.replace(evaluated);
+                state.settle(evaluated);
                 Ok(ControlFlow::Continue(()))
             }
             None => Ok(ControlFlow::Break(std::mem::take(&mut state.population))),

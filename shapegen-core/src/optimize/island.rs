@@ -6,6 +6,7 @@ use std::ops::ControlFlow;
 use rand::RngExt;
 use serde::{Deserialize, Serialize};
 
+use super::adaptive_split::AdaptiveSplit;
 use super::checkpoint::{Checkpoint, SavedIndividual, SavedState};
 use super::driver::{Context, Method, Run, drive};
 use super::ga::GaState;
@@ -187,7 +188,11 @@ impl Method for IslandGa {
         graph: &Graph,
         checkpoint: &Checkpoint,
     ) -> Result<Vec<GaState>, OptimizeError> {
-        let SavedState::Islands { islands } = &checkpoint.state else {
+        let SavedState::Islands {
+            islands,
+            split_bits,
+        } = &checkpoint.state
+        else {
             return Err(OptimizeError::Checkpoint(
                 "it holds no island populations".into(),
             ));
@@ -198,14 +203,23 @@ impl Method for IslandGa {
                 "it does not hold {k} islands of {n} individuals"
             )));
         }
+        if !split_bits.is_empty() && split_bits.len() != k {
+            return Err(OptimizeError::Checkpoint(format!(
+                "it holds mutation splits for {} islands, not {k}",
+                split_bits.len()
+            )));
+        }
         islands
             .iter()
-            .map(|island| {
+            .enumerate()
+            .map(|(i, island)| {
                 let population = island
                     .iter()
                     .map(|i| i.restore(graph))
                     .collect::<Result<Vec<_>, _>>()?;
-                Ok(GaState::new(population))
+                let mut state = GaState::new(population);
+                state.split = split_bits.get(i).map(|&b| AdaptiveSplit::from_bits(b));
+                Ok(state)
             })
             .collect()
     }
@@ -220,6 +234,10 @@ impl Method for IslandGa {
                         .map(|i| SavedIndividual::save(graph, i))
                         .collect()
                 })
+                .collect(),
+            split_bits: islands
+                .iter()
+                .filter_map(|s| s.split.map(AdaptiveSplit::to_bits))
                 .collect(),
         }
     }
@@ -259,7 +277,7 @@ impl Method for IslandGa {
         let mut rest = evaluated;
         for island in islands.iter_mut() {
             let tail = rest.split_off(self.params.ga.population.min(rest.len()));
-            island.replace(rest);
+            island.settle(rest);
             rest = tail;
         }
         if g % self.params.interval == 0 {

@@ -14,6 +14,7 @@
 //! result whatever the number of threads. Fitness is evaluated in parallel on
 //! the current rayon pool; run inside `ThreadPool::install` to choose threads.
 
+mod adaptive_split;
 mod budget;
 mod checkpoint;
 mod driver;
@@ -33,6 +34,7 @@ mod tandem;
 
 use std::time::Duration;
 
+pub use adaptive_split::{AdaptiveSplit, MIN_SHARE, SMOOTHING};
 pub use budget::{Budget, StopReason};
 pub use checkpoint::{
     CHECKPOINT_VERSION, Checkpoint, FNV1A_START, SavedIndividual, SavedParticle, SavedState, fnv1a,

@@ -93,6 +93,7 @@ impl Method for RandomSearch {
     fn save(&self, _graph: &Graph, _state: &Vec<Individual>) -> SavedState {
         SavedState::Population {
             individuals: Vec::new(),
+            split_bits: None,
         }
     }
 

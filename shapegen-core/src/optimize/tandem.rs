@@ -260,7 +260,7 @@ impl Method for Tandem {
             return Ok(ControlFlow::Break(state.merged()));
         };
         let chains = evaluated.split_off(evaluated.len() - chain_count);
-        state.ga.replace(evaluated);
+        state.ga.settle(evaluated);
         rjmcmc.accept(cx, &mut state.chains, chains, &proposals);
         if generation.is_multiple_of(self.params.interval) {
             self.exchange(cx.graph, state);

@@ -144,6 +144,7 @@ fn ga(ctx: &Ctx<'_>, table: Option<&Spanned<GaFile>>) -> Result<MethodConfig, Ex
         },
         elite_dedup: g.elite_dedup.unwrap_or(preset.elite_dedup),
         local_search: g.local_search.unwrap_or(preset.local_search),
+        adaptive_split: g.adaptive_split.unwrap_or(preset.adaptive_split),
         ..preset
     };
     let mut problems = params.problems();
@@ -348,6 +349,7 @@ fn tandem(
     params.migrants = table.migrants.unwrap_or(TANDEM_MIGRANTS);
     params.ga.local_search = table.local_search.unwrap_or(params.ga.local_search);
     params.ga.elite_dedup = table.elite_dedup.unwrap_or(params.ga.elite_dedup);
+    params.ga.adaptive_split = table.adaptive_split.unwrap_or(params.ga.adaptive_split);
     let problems = params.problems();
     let mut config = config(
         ctx,
