@@ -155,6 +155,7 @@ fn every_optimizer_resumes_bit_identically() {
                 rjmcmc: RjmcmcParams::paper(6, init),
                 patience: 100,
                 patience_share: HYBRID_PATIENCE_SHARE,
+                first_phase: None,
             }),
             seed,
         );
@@ -162,6 +163,29 @@ fn every_optimizer_resumes_bit_identically() {
             &Tandem::new(TandemParams::new(adaptive, RjmcmcParams::paper(6, init))),
             seed,
         );
+        // A first phase of SOSMC, then the GA: a checkpoint while the
+        // particles grow (toward 12 blocks) and one after the switch (a
+        // fitness for small models, whose particles finish within a few
+        // generations).
+        let small = FnFitness(|c: &Chromosome| -(c.len() as f64));
+        let graph = blocks_graph();
+        let blocks = BlocksTarget {
+            graph: &graph,
+            blocks: 12,
+        };
+        let hybrid = |particles| {
+            Hybrid::new(HybridParams {
+                ga,
+                rjmcmc: RjmcmcParams::paper(6, init),
+                patience: 100,
+                patience_share: HYBRID_PATIENCE_SHARE,
+                first_phase: Some(SmcParams::paper_sosmc(particles)),
+            })
+        };
+        check_with(&hybrid(4), &graph, &blocks, seed);
+        assert!(particles_at_checkpoint(&hybrid(4), &graph, &blocks, seed));
+        check_with(&hybrid(40), &graph, &small, seed);
+        assert!(!particles_at_checkpoint(&hybrid(40), &graph, &small, seed));
         // On blocks the GA keeps improving: switching late or never.
         for patience in [2, 8, 100] {
             let params = HybridParams {
@@ -169,6 +193,7 @@ fn every_optimizer_resumes_bit_identically() {
                 rjmcmc: RjmcmcParams::paper(6, init),
                 patience,
                 patience_share: HYBRID_PATIENCE_SHARE,
+                first_phase: None,
             };
             check(&Hybrid::new(params), seed);
         }
@@ -180,6 +205,35 @@ fn every_optimizer_resumes_bit_identically() {
             check(&Tandem::new(params), seed);
         }
     }
+}
+
+/// Whether `hybrid` is still in its particles' phase at `STOP_AT`.
+fn particles_at_checkpoint<F: Fitness>(
+    hybrid: &Hybrid,
+    graph: &Graph,
+    fitness: &F,
+    seed: u64,
+) -> bool {
+    let mut growing = None;
+    let mut observer = |s: &GenerationStats<'_>| {
+        if s.generation == STOP_AT {
+            let SavedState::Hybrid { state, .. } = s.checkpoint().state else {
+                panic!("a hybrid saves a hybrid state");
+            };
+            growing = Some(matches!(*state, SavedState::Particles { .. }));
+        }
+        ControlFlow::Continue(())
+    };
+    hybrid
+        .run(
+            graph,
+            fitness,
+            &Budget::generations(TOTAL),
+            seed,
+            &mut observer,
+        )
+        .unwrap();
+    growing.unwrap()
 }
 
 #[test]
@@ -200,6 +254,7 @@ fn the_hybrid_resumes_on_either_side_of_its_switch() {
             rjmcmc: RjmcmcParams::paper(5, init),
             patience,
             patience_share: HYBRID_PATIENCE_SHARE,
+            first_phase: None,
         };
         let result = Hybrid::new(params)
             .run(

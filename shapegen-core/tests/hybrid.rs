@@ -4,7 +4,9 @@
 
 use proptest::prelude::*;
 use shapegen_core::demo::blocks_graph;
-use shapegen_core::optimize::{HYBRID_PATIENCE_SHARE, Hybrid, HybridParams, RjmcmcParams};
+use shapegen_core::optimize::{
+    HYBRID_PATIENCE_SHARE, Hybrid, HybridParams, RjmcmcParams, SavedState, SmcParams,
+};
 use shapegen_core::prelude::*;
 
 fn hybrid(patience: u64) -> Hybrid {
@@ -19,6 +21,7 @@ fn hybrid(patience: u64) -> Hybrid {
         rjmcmc: RjmcmcParams::paper(12, init),
         patience,
         patience_share: HYBRID_PATIENCE_SHARE,
+        first_phase: None,
     })
 }
 
@@ -44,6 +47,64 @@ fn a_stalled_ga_hands_over_to_chains_from_its_best() {
     assert_eq!(sizes.len(), 13);
 }
 
+/// The hybrid with SOSMC of 30 particles as its first phase.
+fn hybrid_after_sosmc(patience: u64) -> Hybrid {
+    Hybrid::new(HybridParams {
+        first_phase: Some(SmcParams::paper_sosmc(30)),
+        ..hybrid(patience).params
+    })
+}
+
+#[test]
+fn a_first_phase_hands_the_ga_its_best_complete_models() {
+    let graph = blocks_graph();
+    let fitness = shapegen_core::demo::BlocksTarget {
+        graph: &graph,
+        blocks: 12,
+    };
+    // Per reported generation: whether the particles were still growing,
+    // and the best so far.
+    let mut seen: Vec<(bool, f64)> = Vec::new();
+    let mut observer = |s: &GenerationStats<'_>| {
+        let SavedState::Hybrid { state, .. } = s.checkpoint().state else {
+            panic!("a hybrid saves a hybrid state");
+        };
+        seen.push((
+            matches!(*state, SavedState::Particles { .. }),
+            s.best_so_far,
+        ));
+        std::ops::ControlFlow::Continue(())
+    };
+    let r = hybrid_after_sosmc(1000)
+        .run(&graph, &fitness, &Budget::generations(40), 5, &mut observer)
+        .unwrap();
+    assert_eq!(r.population.len(), 60, "it ends in the GA's population");
+    // The particles' phase first, then the GA's; once.
+    let switch = seen.iter().position(|&(smc, _)| !smc).unwrap();
+    assert!(switch > 1, "the particles took {switch} generations");
+    assert!(seen[..switch].iter().all(|&(smc, _)| smc), "{seen:?}");
+    assert!(seen[switch..].iter().all(|&(smc, _)| !smc), "{seen:?}");
+    // Generation 0 (root genes only) is not reported, as in SMC.
+    assert_eq!(seen.len(), 40, "{seen:?}");
+    for i in &r.population {
+        i.chromosome.validate(&graph).unwrap();
+    }
+}
+
+#[test]
+fn a_first_phase_reaches_the_optimum_and_beats_random_search() {
+    crate::common::reaches_the_blocks_optimum(|_| hybrid_after_sosmc(100), &[1, 2, 3]);
+}
+
+#[test]
+fn a_first_phase_is_deterministic_whatever_the_thread_count() {
+    let (one, other) =
+        crate::common::same_result_whatever_the_thread_count(&hybrid_after_sosmc(3), 40);
+    assert_ne!(one.population, other.population);
+    let (plain, _) = crate::common::same_result_whatever_the_thread_count(&hybrid(3), 40);
+    assert_ne!(one.population, plain.population);
+}
+
 #[test]
 fn the_hybrid_reaches_the_optimum_and_beats_random_search() {
     // Switching early, late, and never.
@@ -62,7 +123,7 @@ proptest! {
 
     /// Every model of hybrid runs on random graphs, in either phase, is a valid chromosome.
     #[test]
-    fn models_are_valid_chromosomes(graph in crate::common::graph(), seed in any::<u64>(), patience in 1u64..6) {
+    fn models_are_valid_chromosomes(graph in crate::common::graph(), seed in any::<u64>(), patience in 1u64..6, first in 0usize..3) {
         let f = FnFitness(|c: &Chromosome| -(c.len() as f64 - 10.0).abs());
         let init = InitLength::Between { lo: 1, hi: 30 };
         let params = HybridParams {
@@ -70,14 +131,23 @@ proptest! {
             rjmcmc: RjmcmcParams::paper(4, init),
             patience,
             patience_share: HYBRID_PATIENCE_SHARE,
+            first_phase: [None, Some(SmcParams::paper(6)), Some(SmcParams::paper_sosmc(6))][first],
         };
         let mut check = |s: &GenerationStats<'_>| {
-            s.best_chromosome.validate(&graph).unwrap();
+            // While SMC particles grow there may be no valid model to report yet.
+            if s.best_so_far.is_finite() {
+                s.best_chromosome.validate(&graph).unwrap();
+            }
             std::ops::ControlFlow::Continue(())
         };
         let r = Hybrid::new(params).run(&graph, &f, &Budget::generations(15), seed, &mut check).unwrap();
+        let min_len = graph.limits().min_len as usize;
         for i in &r.population {
-            i.chromosome.validate(&graph).map_err(|e| TestCaseError::fail(e.to_string()))?;
+            // Particles still growing at the end may be shorter than L_min;
+            // every model of the GA's and the chains' phases is whole.
+            if i.fitness.is_finite() || i.chromosome.len() >= min_len {
+                i.chromosome.validate(&graph).map_err(|e| TestCaseError::fail(e.to_string()))?;
+            }
         }
     }
 }

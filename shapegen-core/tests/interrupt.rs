@@ -115,7 +115,15 @@ fn the_island_ga_stops_mid_generation_with_the_last_complete_one() {
 #[test]
 fn the_hybrid_stops_mid_generation_in_either_phase() {
     let init = InitLength::Around { l0: 12 };
-    for patience in [1, 1000] {
+    let first_phases = [
+        None,
+        Some(shapegen_core::optimize::SmcParams::paper_sosmc(30)),
+    ];
+    for (patience, first_phase) in [
+        (1, first_phases[0]),
+        (1000, first_phases[0]),
+        (1000, first_phases[1]),
+    ] {
         let hybrid = shapegen_core::optimize::Hybrid::new(shapegen_core::optimize::HybridParams {
             ga: GaParams {
                 population: 40,
@@ -126,6 +134,7 @@ fn the_hybrid_stops_mid_generation_in_either_phase() {
             rjmcmc: RjmcmcParams::paper(8, init),
             patience,
             patience_share: shapegen_core::optimize::HYBRID_PATIENCE_SHARE,
+            first_phase,
         });
         check(&hybrid, 150);
     }

@@ -285,6 +285,7 @@ pub(super) struct IslandsFile {
 pub(super) struct HybridFile {
     pub patience: Option<u64>,
     pub patience_share: Option<f64>,
+    pub first_phase: Option<FirstPhaseFile>,
     pub budget: Option<Spanned<BudgetFile>>,
 }
 
@@ -299,6 +300,18 @@ pub(super) struct TandemFile {
     pub elite_dedup: Option<bool>,
     pub adaptive_split: Option<bool>,
     pub budget: Option<Spanned<BudgetFile>>,
+}
+
+/// `hybrid.first_phase`: what builds the GA's first models.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum FirstPhaseFile {
+    /// Nothing: the GA's random individuals.
+    None,
+    /// SMC with the `[smc]` settings.
+    Smc,
+    /// SOSMC with the `[sosmc]` settings.
+    Sosmc,
 }
 
 /// `islands.topology`.

@@ -98,6 +98,12 @@
 //! chains = 70
 //! init_length = 50
 //! # jump_probability = 0.5, annealing = 1.1 (1 = off), delayed_rejection = "off" | "exact" | "approx_alter"
+//!
+//! # [islands], [hybrid] and [tandem] build on [ga] and [rjmcmc]; each may set a `budget`:
+//! # [islands] islands = 4, interval = 10, migrants = 2, topology = "ring" | "random"
+//! # [hybrid]  patience = 100, patience_share = 0.5,
+//! #           first_phase = "none" | "smc" | "sosmc"   # which builds the GA's first models ([smc]/[sosmc] settings)
+//! # [tandem]  interval = 10, migrants = 2, local_search = 30, elite_dedup = true, adaptive_split = false
 //! ```
 //!
 //! A target that covers no cell (outside the grid, not closed, too small)

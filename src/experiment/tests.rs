@@ -625,3 +625,32 @@ fn the_adaptive_split_is_read_for_the_ga_and_the_tandem() {
     assert_eq!(key, "ga.adaptive_split", "{msg}");
     assert!(msg.contains("boolean"), "{msg}");
 }
+
+#[test]
+fn the_hybrids_first_phase_takes_the_smc_or_sosmc_settings() {
+    let tables = "[ga]\npopulation = 120\nelites = 20\ninit_length = 30\nmutation_rate = 0.3\nsplit = { grow = 1.0, cut = 1.0, alter = 1.0 }\n[smc]\nparticles = 70\n[sosmc]\nparticles = 80\n";
+    let first = |toml: &str| {
+        let e = load(&format!("{MINIMAL}{tables}{toml}")).unwrap();
+        let MethodParams::Hybrid(p) = e.method(Method::Hybrid).params else {
+            panic!("hybrid runs the hybrid");
+        };
+        p.first_phase
+    };
+    assert_eq!(first(""), None);
+    assert_eq!(first("[hybrid]\nfirst_phase = \"none\"\n"), None);
+    let smc = first("[hybrid]\nfirst_phase = \"smc\"\n").unwrap();
+    assert_eq!(
+        (smc.particles, smc.order),
+        (70, crate::optimize::SlotOrder::Program)
+    );
+    let sosmc = first("[hybrid]\nfirst_phase = \"sosmc\"\n").unwrap();
+    assert_eq!(
+        (sosmc.particles, sosmc.order),
+        (80, crate::optimize::SlotOrder::Random)
+    );
+    let (_, key, msg) = invalid(&format!(
+        "{MINIMAL}{tables}[hybrid]\nfirst_phase = \"ga\"\n"
+    ));
+    assert_eq!(key, "hybrid.first_phase", "{msg}");
+    assert!(msg.contains("sosmc"), "{msg}");
+}

@@ -1,5 +1,6 @@
-//! The hybrid: the GA while it improves, then RJMCMC chains started from
-//! the GA's best models (the paper's future work).
+//! The hybrid: optionally SOSMC (or SMC) to build the first models, the GA
+//! while it improves, then RJMCMC chains started from the GA's best models
+//! (the paper's future work).
 
 use std::borrow::Cow;
 use std::ops::ControlFlow;
@@ -11,8 +12,10 @@ use super::driver::{Context, Method, Run, drive};
 use super::ga::GaState;
 use super::rjmcmc::Chains;
 use super::selection::{best_distinct, rank_order};
+use super::smc::Particles;
 use super::{
     Fitness, Ga, GaParams, Individual, OptimizeError, Optimizer, Rjmcmc, RjmcmcParams, RunResult,
+    Smc, SmcParams,
 };
 use crate::graph::Graph;
 
@@ -35,6 +38,12 @@ pub struct HybridParams {
     /// `patience`.
     #[serde(default = "default_patience_share")]
     pub patience_share: f64,
+    /// A first phase: SOSMC (or SMC) with these parameters builds models
+    /// until every particle is complete, and the GA starts from their best
+    /// distinct valid ones (repeated in turn to fill its population) instead
+    /// of random individuals. `None` (the default): no first phase.
+    #[serde(default)]
+    pub first_phase: Option<SmcParams>,
 }
 
 /// The default [`HybridParams::patience_share`].
@@ -58,6 +67,9 @@ impl HybridParams {
     pub fn problems(&self) -> Vec<String> {
         let mut p = self.ga.problems();
         p.extend(self.rjmcmc.problems());
+        if let Some(first) = &self.first_phase {
+            p.extend(first.problems());
+        }
         if self.patience == 0 {
             p.push("patience must be at least 1 generation".into());
         }
@@ -71,7 +83,9 @@ impl HybridParams {
     }
 }
 
-/// The GA (paper Algorithm 1) as long as its best improves; once it has not
+/// Optionally SOSMC (or SMC) until every particle is a complete model, then
+/// the GA (paper Algorithm 1) from the particles' best distinct models, as
+/// long as its best improves; once it has not
 /// for `patience` generations and for `patience_share` of the generations
 /// run so far, RJMCMC with parallel tempering continues from
 /// the GA population's best distinct models (one chain each, the best on the
@@ -102,6 +116,31 @@ impl Hybrid {
         Rjmcmc::new(self.params.rjmcmc)
     }
 
+    /// The first phase's SMC, if there is one.
+    fn first_phase(&self) -> Option<Smc> {
+        self.params.first_phase.map(Smc::new)
+    }
+
+    /// The GA's first population from the first phase's complete models:
+    /// their best distinct valid ones, repeated in turn to fill it; the GA's
+    /// own random population if none is valid.
+    fn ga_from<F: Fitness>(
+        &self,
+        cx: &mut Context<'_, '_, F>,
+        models: &[Individual],
+    ) -> Result<GaState, OptimizeError> {
+        let mut sorted: Vec<&Individual> = models.iter().collect();
+        sorted.sort_by(|a, b| rank_order(a.fitness, b.fitness));
+        let best = best_distinct(cx.graph, sorted.into_iter(), self.params.ga.population);
+        if best.is_empty() {
+            return self.ga().init(cx);
+        }
+        let population = (0..self.params.ga.population)
+            .map(|k| best[k % best.len()].clone())
+            .collect();
+        Ok(GaState::new(population))
+    }
+
     /// The chains the GA hands over: its best distinct valid models (the
     /// population is sorted best first), repeated when there are fewer.
     fn chains_from(&self, graph: &Graph, population: &[Individual]) -> Chains {
@@ -125,6 +164,8 @@ impl Hybrid {
 
 /// The phase a hybrid run is in.
 pub(crate) enum Phase {
+    /// SOSMC (or SMC) building the GA's first models.
+    Smc(Smc, Particles),
     /// The GA, with its best so far and the generations since it last improved.
     Ga {
         state: GaState,
@@ -173,7 +214,15 @@ impl Method for Hybrid {
     }
 
     fn init<F: Fitness>(&self, cx: &mut Context<'_, '_, F>) -> Result<Phase, OptimizeError> {
-        Ok(Phase::ga(self.ga().init(cx)?))
+        Ok(match self.first_phase() {
+            Some(smc) => Phase::Smc(smc, smc.init(cx)?),
+            None => Phase::ga(self.ga().init(cx)?),
+        })
+    }
+
+    /// With a first phase, generation 0 holds only root genes (as SMC's).
+    fn reports_initial(&self) -> bool {
+        self.params.first_phase.is_none()
     }
 
     fn restore(&self, graph: &Graph, checkpoint: &Checkpoint) -> Result<Phase, OptimizeError> {
@@ -187,6 +236,14 @@ impl Method for Hybrid {
         };
         Ok(match state.as_ref() {
             SavedState::Chains { .. } => Phase::Rjmcmc(self.rjmcmc().restore_state(graph, state)?),
+            SavedState::Particles { .. } => {
+                let Some(smc) = self.first_phase() else {
+                    return Err(OptimizeError::Checkpoint(
+                        "it holds SMC particles, but this hybrid has no first phase".into(),
+                    ));
+                };
+                Phase::Smc(smc, smc.restore_state(graph, state)?)
+            }
             _ => Phase::Ga {
                 state: self.ga().restore_state(graph, state)?,
                 best: f64::from_bits(*best_bits),
@@ -203,6 +260,7 @@ impl Method for Hybrid {
                 stalled,
             } => (best.to_bits(), *stalled, self.ga().save_state(graph, state)),
             Phase::Rjmcmc(chains) => (0, 0, self.rjmcmc().save_state(graph, chains)),
+            Phase::Smc(smc, particles) => (0, 0, smc.save(graph, particles)),
         };
         SavedState::Hybrid {
             best_bits,
@@ -211,15 +269,17 @@ impl Method for Hybrid {
         }
     }
 
-    fn report<'s>(&self, _graph: &Graph, phase: &'s Phase) -> Cow<'s, [Individual]> {
+    fn report<'s>(&self, graph: &Graph, phase: &'s Phase) -> Cow<'s, [Individual]> {
         match phase {
+            Phase::Smc(smc, particles) => smc.report(graph, particles),
             Phase::Ga { state, .. } => Cow::Borrowed(&state.population),
             Phase::Rjmcmc(chains) => Cow::Borrowed(&chains.chains),
         }
     }
 
-    fn final_population(&self, _graph: &Graph, phase: Phase) -> Vec<Individual> {
+    fn final_population(&self, graph: &Graph, phase: Phase) -> Vec<Individual> {
         match phase {
+            Phase::Smc(smc, particles) => smc.final_population(graph, particles),
             Phase::Ga { state, .. } => state.population,
             Phase::Rjmcmc(chains) => chains.chains,
         }
@@ -232,6 +292,17 @@ impl Method for Hybrid {
     ) -> Result<ControlFlow<Vec<Individual>>, OptimizeError> {
         let (state, best, stalled) = match phase {
             Phase::Rjmcmc(chains) => return self.rjmcmc().step(cx, chains),
+            Phase::Smc(smc, particles) => {
+                let smc = *smc;
+                if let ControlFlow::Break(population) = smc.step(cx, particles)? {
+                    return Ok(ControlFlow::Break(population));
+                }
+                if smc.exhausted(particles) {
+                    let models = smc.report(cx.graph, particles).into_owned();
+                    *phase = Phase::ga(self.ga_from(cx, &models)?);
+                }
+                return Ok(ControlFlow::Continue(()));
+            }
             Phase::Ga {
                 state,
                 best,
@@ -264,6 +335,7 @@ mod tests {
             rjmcmc: RjmcmcParams::paper(12, crate::ops::InitLength::Around { l0: 20 }),
             patience,
             patience_share,
+            first_phase: None,
         }
     }
 

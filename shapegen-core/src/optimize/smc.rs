@@ -364,6 +364,33 @@ impl Particles {
     }
 }
 
+impl Smc {
+    /// The particles saved in `saved`.
+    pub(crate) fn restore_state(
+        &self,
+        graph: &Graph,
+        saved: &SavedState,
+    ) -> Result<Particles, OptimizeError> {
+        let SavedState::Particles { particles } = saved else {
+            return Err(OptimizeError::Checkpoint(
+                "it holds no SMC particles".into(),
+            ));
+        };
+        if particles.len() != self.params.particles {
+            return Err(OptimizeError::Checkpoint(format!(
+                "it holds {} particles, not {}",
+                particles.len(),
+                self.params.particles
+            )));
+        }
+        let particles = particles
+            .iter()
+            .map(|p| Particle::restore(graph, p))
+            .collect::<Result<_, _>>()?;
+        Ok(Particles::new(particles))
+    }
+}
+
 impl Method for Smc {
     type Params = SmcParams;
     type State = Particles;
@@ -401,23 +428,7 @@ impl Method for Smc {
     }
 
     fn restore(&self, graph: &Graph, checkpoint: &Checkpoint) -> Result<Particles, OptimizeError> {
-        let SavedState::Particles { particles } = &checkpoint.state else {
-            return Err(OptimizeError::Checkpoint(
-                "it holds no SMC particles".into(),
-            ));
-        };
-        if particles.len() != self.params.particles {
-            return Err(OptimizeError::Checkpoint(format!(
-                "it holds {} particles, not {}",
-                particles.len(),
-                self.params.particles
-            )));
-        }
-        let particles = particles
-            .iter()
-            .map(|p| Particle::restore(graph, p))
-            .collect::<Result<_, _>>()?;
-        Ok(Particles::new(particles))
+        self.restore_state(graph, &checkpoint.state)
     }
 
     fn save(&self, graph: &Graph, state: &Particles) -> SavedState {

@@ -10,8 +10,8 @@ use toml::Spanned;
 
 use super::Ctx;
 use crate::experiment::file::{
-    BudgetFile, DelayedRejectionFile, EdgeMatchFile, ExperimentFile, GaFile, RjmcmcFile, SmcFile,
-    TopologyFile,
+    BudgetFile, DelayedRejectionFile, EdgeMatchFile, ExperimentFile, FirstPhaseFile, GaFile,
+    RjmcmcFile, SmcFile, TopologyFile,
 };
 use crate::experiment::{ExperimentError, Method, MethodConfig, MethodParams};
 use crate::ops::{CrossoverConfig, EdgeMatch, InitLength, MutationSplit};
@@ -62,7 +62,10 @@ pub(super) fn from_file(
         (Method::Sosmc, sosmc),
         (Method::Rjmcmc, rjmcmc),
         (Method::Islands, islands(ctx, f, ga)?),
-        (Method::Hybrid, hybrid(ctx, f, ga, rjmcmc)?),
+        (
+            Method::Hybrid,
+            hybrid(ctx, f, ga, rjmcmc, [smc_config, sosmc])?,
+        ),
         (Method::Tandem, tandem(ctx, f, ga, rjmcmc)?),
     ]))
 }
@@ -290,16 +293,21 @@ fn hybrid(
     f: &ExperimentFile,
     ga: MethodConfig,
     rjmcmc: MethodConfig,
+    [smc, sosmc]: [MethodConfig; 2],
 ) -> Result<MethodConfig, ExperimentError> {
     let (MethodParams::Ga(ga_params), MethodParams::Rjmcmc(rjmcmc)) = (ga.params, rjmcmc.params)
     else {
         unreachable!("the GA's and RJMCMC's configurations hold their parameters")
+    };
+    let (MethodParams::Smc(smc), MethodParams::Smc(sosmc)) = (smc.params, sosmc.params) else {
+        unreachable!("the SMC and SOSMC configurations hold their parameters")
     };
     let mut params = HybridParams {
         ga: ga_params,
         rjmcmc,
         patience: HYBRID_PATIENCE,
         patience_share: HYBRID_PATIENCE_SHARE,
+        first_phase: None,
     };
     let Some(t) = f.hybrid.as_ref() else {
         return Ok(MethodConfig {
@@ -310,6 +318,11 @@ fn hybrid(
     let h = t.get_ref();
     params.patience = h.patience.unwrap_or(HYBRID_PATIENCE);
     params.patience_share = h.patience_share.unwrap_or(HYBRID_PATIENCE_SHARE);
+    params.first_phase = match h.first_phase {
+        None | Some(FirstPhaseFile::None) => None,
+        Some(FirstPhaseFile::Smc) => Some(smc),
+        Some(FirstPhaseFile::Sosmc) => Some(sosmc),
+    };
     let problems = params.problems();
     let mut config = config(
         ctx,
