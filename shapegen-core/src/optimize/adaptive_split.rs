@@ -105,8 +105,7 @@ impl AdaptiveSplit {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::genome::Chromosome;
-    use crate::graph::GraphBuilder;
+    use crate::optimize::test_support::with_fitness;
 
     fn shares(s: &MutationSplit) -> [f64; 3] {
         [s.grow, s.cut, s.alter]
@@ -125,16 +124,7 @@ mod tests {
 
     #[test]
     fn a_mutation_whose_children_win_gains_share_and_one_that_never_wins_falls_to_the_floor() {
-        let graph = GraphBuilder::new("t")
-            .start("S")
-            .node("S", |n| n)
-            .build()
-            .unwrap();
-        let root = Chromosome::root(&graph, &mut crate::rng::stream(0, &[]));
-        let child = |fitness: f64| Individual {
-            chromosome: root.clone(),
-            fitness,
-        };
+        let child = with_fitness();
         let mut split = AdaptiveSplit::new(&MutationSplit::new(13.5, 13.5, 3.0));
         let alter_before = split.split().alter;
         // Alter's children beat their parents; grow's and cut's do not

@@ -290,28 +290,12 @@ impl Method for IslandGa {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::genome::Chromosome;
-    use crate::graph::GraphBuilder;
+    use crate::optimize::test_support::with_fitness;
 
     #[test]
     fn a_ring_migration_replaces_each_next_islands_worst_with_the_best() {
-        let graph = GraphBuilder::new("t")
-            .start("S")
-            .node("S", |n| n)
-            .build()
-            .unwrap();
-        let root = Chromosome::root(&graph, &mut crate::rng::stream(0, &[]));
-        let island = |scores: &[f64]| {
-            GaState::new(
-                scores
-                    .iter()
-                    .map(|&fitness| Individual {
-                        chromosome: root.clone(),
-                        fitness,
-                    })
-                    .collect(),
-            )
-        };
+        let individual = with_fitness();
+        let island = |scores: &[f64]| GaState::new(scores.iter().map(|&f| individual(f)).collect());
         let ga = IslandGa::new(IslandParams {
             ga: GaParams {
                 population: 4,

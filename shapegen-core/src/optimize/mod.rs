@@ -160,6 +160,29 @@ pub trait Optimizer {
     fn run_from<F: Fitness>(&self, run: Run<'_, F>) -> Result<RunResult, OptimizeError>;
 }
 
+/// What the optimizers' unit tests share.
+#[cfg(test)]
+pub(crate) mod test_support {
+    use super::Individual;
+    use crate::genome::Chromosome;
+    use crate::graph::GraphBuilder;
+
+    /// A maker of individuals that differ only in fitness (the root gene of
+    /// a one-node graph), for tests where only fitness matters.
+    pub fn with_fitness() -> impl Fn(f64) -> Individual {
+        let graph = GraphBuilder::new("t")
+            .start("S")
+            .node("S", |n| n)
+            .build()
+            .unwrap();
+        let root = Chromosome::root(&graph, &mut crate::rng::stream(0, &[]));
+        move |fitness| Individual {
+            chromosome: root.clone(),
+            fitness,
+        }
+    }
+}
+
 /// Stream purposes, so that streams for different decisions never coincide.
 pub(crate) mod purpose {
     pub const INIT: u64 = 1;
