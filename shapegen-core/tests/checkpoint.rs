@@ -186,6 +186,17 @@ fn every_optimizer_resumes_bit_identically() {
         assert!(particles_at_checkpoint(&hybrid(4), &graph, &blocks, seed));
         check_with(&hybrid(40), &graph, &small, seed);
         assert!(!particles_at_checkpoint(&hybrid(40), &graph, &small, seed));
+        // The same first phase in the tandem.
+        let tandem = |particles| {
+            Tandem::new(TandemParams {
+                first_phase: Some(SmcParams::paper_sosmc(particles)),
+                ..TandemParams::new(ga, RjmcmcParams::paper(6, init))
+            })
+        };
+        check_with(&tandem(4), &graph, &blocks, seed);
+        assert!(particles_at_checkpoint(&tandem(4), &graph, &blocks, seed));
+        check_with(&tandem(40), &graph, &small, seed);
+        assert!(!particles_at_checkpoint(&tandem(40), &graph, &small, seed));
         // On blocks the GA keeps improving: switching late or never.
         for patience in [2, 8, 100] {
             let params = HybridParams {
@@ -207,9 +218,10 @@ fn every_optimizer_resumes_bit_identically() {
     }
 }
 
-/// Whether `hybrid` is still in its particles' phase at `STOP_AT`.
-fn particles_at_checkpoint<F: Fitness>(
-    hybrid: &Hybrid,
+/// Whether `opt` (a hybrid or a tandem) is still in its particles' phase
+/// at `STOP_AT`.
+fn particles_at_checkpoint<O: Optimizer, F: Fitness>(
+    opt: &O,
     graph: &Graph,
     fitness: &F,
     seed: u64,
@@ -217,22 +229,23 @@ fn particles_at_checkpoint<F: Fitness>(
     let mut growing = None;
     let mut observer = |s: &GenerationStats<'_>| {
         if s.generation == STOP_AT {
-            let SavedState::Hybrid { state, .. } = s.checkpoint().state else {
-                panic!("a hybrid saves a hybrid state");
+            let first = match s.checkpoint().state {
+                SavedState::Hybrid { state, .. } => state,
+                SavedState::Tandem { ga, .. } => ga,
+                other => panic!("not a hybrid or tandem state: {other:?}"),
             };
-            growing = Some(matches!(*state, SavedState::Particles { .. }));
+            growing = Some(matches!(*first, SavedState::Particles { .. }));
         }
         ControlFlow::Continue(())
     };
-    hybrid
-        .run(
-            graph,
-            fitness,
-            &Budget::generations(TOTAL),
-            seed,
-            &mut observer,
-        )
-        .unwrap();
+    opt.run(
+        graph,
+        fitness,
+        &Budget::generations(TOTAL),
+        seed,
+        &mut observer,
+    )
+    .unwrap();
     growing.unwrap()
 }
 

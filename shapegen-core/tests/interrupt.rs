@@ -153,6 +153,12 @@ fn the_tandem_stops_mid_generation_with_the_last_complete_one() {
         RjmcmcParams::paper(8, init),
     ));
     check(&tandem, 150);
+    // With a first phase of SOSMC.
+    let tandem = shapegen_core::optimize::Tandem::new(shapegen_core::optimize::TandemParams {
+        first_phase: Some(shapegen_core::optimize::SmcParams::paper_sosmc(30)),
+        ..tandem.params
+    });
+    check(&tandem, 600);
 }
 
 #[test]

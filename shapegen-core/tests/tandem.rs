@@ -4,7 +4,7 @@
 
 use proptest::prelude::*;
 use shapegen_core::demo::blocks_graph;
-use shapegen_core::optimize::{RjmcmcParams, SavedState, Tandem, TandemParams};
+use shapegen_core::optimize::{RjmcmcParams, SavedState, SmcParams, Tandem, TandemParams};
 use shapegen_core::prelude::*;
 
 fn tandem(interval: u64) -> Tandem {
@@ -57,6 +57,70 @@ fn both_sides_run_and_report_together() {
     assert!(r.evaluations > 72 + 10 * 12, "{}", r.evaluations);
 }
 
+/// The tandem with SOSMC of 30 particles as its first phase.
+fn tandem_after_sosmc(interval: u64) -> Tandem {
+    Tandem::new(TandemParams {
+        first_phase: Some(SmcParams::paper_sosmc(30)),
+        ..tandem(interval).params
+    })
+}
+
+#[test]
+fn a_first_phase_grows_particles_while_the_chains_wait_then_seeds_the_ga() {
+    let graph = blocks_graph();
+    let fitness = shapegen_core::demo::BlocksTarget {
+        graph: &graph,
+        blocks: 12,
+    };
+    // Per reported generation: the GA side's kind and size, the chains' states.
+    let mut seen = Vec::new();
+    let mut observer = |s: &GenerationStats<'_>| {
+        let SavedState::Tandem { ga, chains } = s.checkpoint().state else {
+            panic!("a tandem saves a tandem state");
+        };
+        let SavedState::Chains { chains, .. } = *chains else {
+            panic!("chains");
+        };
+        let side = match *ga {
+            SavedState::Particles { particles } => ("particles", particles.len()),
+            SavedState::Population { individuals, .. } => ("ga", individuals.len()),
+            _ => panic!("particles or a GA population"),
+        };
+        seen.push((side, chains));
+        std::ops::ControlFlow::Continue(())
+    };
+    let r = tandem_after_sosmc(3)
+        .run(&graph, &fitness, &Budget::generations(40), 5, &mut observer)
+        .unwrap();
+    let switch = seen.iter().position(|(side, _)| side.0 == "ga").unwrap();
+    assert!(switch > 1, "the particles took {switch} generations");
+    assert!(
+        seen[..switch]
+            .iter()
+            .all(|(side, _)| *side == ("particles", 30))
+    );
+    assert!(seen[switch..].iter().all(|(side, _)| *side == ("ga", 60)));
+    // The chains do not move while the particles grow.
+    assert!(seen[..switch].iter().all(|(_, c)| *c == seen[0].1));
+    assert_ne!(seen[switch + 2].1, seen[0].1, "the chains move afterwards");
+    assert_eq!(r.population.len(), 72);
+    for i in &r.population {
+        i.chromosome.validate(&graph).unwrap();
+    }
+}
+
+#[test]
+fn a_first_phase_reaches_the_optimum_and_beats_random_search() {
+    crate::common::reaches_the_blocks_optimum(|_| tandem_after_sosmc(10), &[1, 2, 3]);
+}
+
+#[test]
+fn a_first_phase_is_deterministic_whatever_the_thread_count() {
+    let (one, other) =
+        crate::common::same_result_whatever_the_thread_count(&tandem_after_sosmc(3), 30);
+    assert_ne!(one.population, other.population);
+}
+
 #[test]
 fn the_tandem_reaches_the_optimum_and_beats_random_search() {
     // Trading often, rarely, and in effect never.
@@ -91,25 +155,33 @@ proptest! {
 
     /// Every model of tandem runs on random graphs is a valid chromosome.
     #[test]
-    fn models_are_valid_chromosomes(graph in crate::common::graph(), seed in any::<u64>(), interval in 1u64..4, local_search in 0usize..3, adaptive_split in any::<bool>()) {
+    fn models_are_valid_chromosomes(graph in crate::common::graph(), seed in any::<u64>(), interval in 1u64..4, local_search in 0usize..3, adaptive_split in any::<bool>(), first in 0usize..3) {
         let f = FnFitness(|c: &Chromosome| -(c.len() as f64 - 10.0).abs());
         let init = InitLength::Between { lo: 1, hi: 30 };
         let params = TandemParams {
             interval,
             migrants: 2,
+            first_phase: [None, Some(SmcParams::paper(6)), Some(SmcParams::paper_sosmc(6))][first],
             ..TandemParams::new(
                 GaParams { population: 10, elites: 2, init, local_search, adaptive_split, ..GaParams::paper_spaceship() },
                 RjmcmcParams::paper(4, init),
             )
         };
         let mut check = |s: &GenerationStats<'_>| {
-            s.best_chromosome.validate(&graph).unwrap();
+            if s.best_so_far.is_finite() {
+                s.best_chromosome.validate(&graph).unwrap();
+            }
             std::ops::ControlFlow::Continue(())
         };
         let r = Tandem::new(params).run(&graph, &f, &Budget::generations(12), seed, &mut check).unwrap();
-        prop_assert_eq!(r.population.len(), 14);
+        // The GA's 10 and the chains' 4; the first phase's 6 particles
+        // instead of the GA's 10 if they are still growing.
+        prop_assert!(r.population.len() == 14 || (first > 0 && r.population.len() == 10));
+        let min_len = graph.limits().min_len as usize;
         for i in &r.population {
-            i.chromosome.validate(&graph).map_err(|e| TestCaseError::fail(e.to_string()))?;
+            if i.fitness.is_finite() || i.chromosome.len() >= min_len {
+                i.chromosome.validate(&graph).map_err(|e| TestCaseError::fail(e.to_string()))?;
+            }
         }
     }
 }

@@ -299,10 +299,11 @@ pub(super) struct TandemFile {
     pub local_search: Option<usize>,
     pub elite_dedup: Option<bool>,
     pub adaptive_split: Option<bool>,
+    pub first_phase: Option<FirstPhaseFile>,
     pub budget: Option<Spanned<BudgetFile>>,
 }
 
-/// `hybrid.first_phase`: what builds the GA's first models.
+/// `hybrid.first_phase` and `tandem.first_phase`: what builds the GA's first models.
 #[derive(Clone, Copy, Debug, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub(super) enum FirstPhaseFile {

@@ -103,7 +103,8 @@
 //! # [islands] islands = 4, interval = 10, migrants = 2, topology = "ring" | "random"
 //! # [hybrid]  patience = 100, patience_share = 0.5,
 //! #           first_phase = "none" | "smc" | "sosmc"   # which builds the GA's first models ([smc]/[sosmc] settings)
-//! # [tandem]  interval = 10, migrants = 2, local_search = 30, elite_dedup = true, adaptive_split = false
+//! # [tandem]  interval = 10, migrants = 2, local_search = 30, elite_dedup = true, adaptive_split = false,
+//! #           first_phase = "none" | "smc" | "sosmc"   # as the hybrid's; the chains wait meanwhile
 //! ```
 //!
 //! A target that covers no cell (outside the grid, not closed, too small)

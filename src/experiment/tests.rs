@@ -627,7 +627,7 @@ fn the_adaptive_split_is_read_for_the_ga_and_the_tandem() {
 }
 
 #[test]
-fn the_hybrids_first_phase_takes_the_smc_or_sosmc_settings() {
+fn a_first_phase_takes_the_smc_or_sosmc_settings() {
     let tables = "[ga]\npopulation = 120\nelites = 20\ninit_length = 30\nmutation_rate = 0.3\nsplit = { grow = 1.0, cut = 1.0, alter = 1.0 }\n[smc]\nparticles = 70\n[sosmc]\nparticles = 80\n";
     let first = |toml: &str| {
         let e = load(&format!("{MINIMAL}{tables}{toml}")).unwrap();
@@ -648,6 +648,15 @@ fn the_hybrids_first_phase_takes_the_smc_or_sosmc_settings() {
         (sosmc.particles, sosmc.order),
         (80, crate::optimize::SlotOrder::Random)
     );
+    // The tandem's, from the same tables.
+    let e = load(&format!(
+        "{MINIMAL}{tables}[tandem]\nfirst_phase = \"sosmc\"\n"
+    ))
+    .unwrap();
+    assert!(matches!(
+        e.method(Method::Tandem).params,
+        MethodParams::Tandem(p) if p.first_phase.is_some_and(|f| f.particles == 80)
+    ));
     let (_, key, msg) = invalid(&format!(
         "{MINIMAL}{tables}[hybrid]\nfirst_phase = \"ga\"\n"
     ));

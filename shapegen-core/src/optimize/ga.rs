@@ -265,6 +265,29 @@ impl Ga {
         next
     }
 
+    /// A first population from `models` (complete models of an earlier
+    /// phase): their best distinct valid ones, repeated in turn to fill the
+    /// population; the random initial population (of `island`'s streams),
+    /// evaluated, if none is valid.
+    pub(crate) fn population_from<F: Fitness>(
+        &self,
+        cx: &mut Context<'_, '_, F>,
+        models: &[Individual],
+        island: Option<u64>,
+    ) -> Result<GaState, OptimizeError> {
+        let mut sorted: Vec<&Individual> = models.iter().collect();
+        sorted.sort_by(|a, b| rank_order(a.fitness, b.fitness));
+        let best = best_distinct(cx.graph, sorted.into_iter(), self.params.population);
+        if best.is_empty() {
+            let initial = self.initial_population(cx.graph, cx.seed, island)?;
+            return Ok(GaState::new(cx.evaluate_within_budget(initial)));
+        }
+        let population = (0..self.params.population)
+            .map(|k| best[k % best.len()].clone())
+            .collect();
+        Ok(GaState::new(population))
+    }
+
     /// The local-search children: move `i` (from the stream `(seed,
     /// generation, i, LOCAL[, island])`) starts from the `i mod d`-th of the
     /// `d` best distinct valid individuals. A move that changes nothing

@@ -121,26 +121,6 @@ impl Hybrid {
         self.params.first_phase.map(Smc::new)
     }
 
-    /// The GA's first population from the first phase's complete models:
-    /// their best distinct valid ones, repeated in turn to fill it; the GA's
-    /// own random population if none is valid.
-    fn ga_from<F: Fitness>(
-        &self,
-        cx: &mut Context<'_, '_, F>,
-        models: &[Individual],
-    ) -> Result<GaState, OptimizeError> {
-        let mut sorted: Vec<&Individual> = models.iter().collect();
-        sorted.sort_by(|a, b| rank_order(a.fitness, b.fitness));
-        let best = best_distinct(cx.graph, sorted.into_iter(), self.params.ga.population);
-        if best.is_empty() {
-            return self.ga().init(cx);
-        }
-        let population = (0..self.params.ga.population)
-            .map(|k| best[k % best.len()].clone())
-            .collect();
-        Ok(GaState::new(population))
-    }
-
     /// The chains the GA hands over: its best distinct valid models (the
     /// population is sorted best first), repeated when there are fewer.
     fn chains_from(&self, graph: &Graph, population: &[Individual]) -> Chains {
@@ -299,7 +279,7 @@ impl Method for Hybrid {
                 }
                 if smc.exhausted(particles) {
                     let models = smc.report(cx.graph, particles).into_owned();
-                    *phase = Phase::ga(self.ga_from(cx, &models)?);
+                    *phase = Phase::ga(self.ga().population_from(cx, &models, None)?);
                 }
                 return Ok(ControlFlow::Continue(()));
             }

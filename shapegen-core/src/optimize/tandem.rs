@@ -10,8 +10,10 @@ use super::driver::{Context, Method, Run, drive};
 use super::ga::GaState;
 use super::rjmcmc::Chains;
 use super::selection::{best_distinct, rank_order};
+use super::smc::Particles;
 use super::{
     Fitness, Ga, GaParams, Individual, OptimizeError, Optimizer, Rjmcmc, RjmcmcParams, RunResult,
+    Smc, SmcParams,
 };
 use crate::graph::Graph;
 
@@ -30,6 +32,12 @@ pub struct TandemParams {
     pub interval: u64,
     /// Distinct models each side sends at an exchange.
     pub migrants: usize,
+    /// A first phase: SOSMC (or SMC) with these parameters builds models
+    /// until every particle is complete (the chains wait), and the GA
+    /// starts from their best distinct valid ones instead of random
+    /// individuals. `None` (the default): no first phase.
+    #[serde(default)]
+    pub first_phase: Option<SmcParams>,
 }
 
 /// The default [`TandemParams::interval`].
@@ -49,6 +57,7 @@ impl TandemParams {
             rjmcmc,
             interval: TANDEM_INTERVAL,
             migrants: TANDEM_MIGRANTS,
+            first_phase: None,
         }
     }
 
@@ -73,6 +82,9 @@ impl TandemParams {
     pub fn problems(&self) -> Vec<String> {
         let mut p = self.ga.problems();
         p.extend(self.rjmcmc.problems());
+        if let Some(first) = &self.first_phase {
+            p.extend(first.problems());
+        }
         if self.interval == 0 {
             p.push("interval must be at least 1 generation".into());
         }
@@ -134,7 +146,7 @@ impl Tandem {
     /// GA's best to the chains holding the worst models, where better.
     fn exchange(&self, graph: &Graph, state: &mut TandemState) {
         let n = self.params.migrants;
-        let TandemState { ga, chains } = state;
+        let TandemState { ga, chains, .. } = state;
         let mut by_fitness: Vec<usize> = (0..chains.chains.len()).collect();
         by_fitness.sort_by(|&a, &b| rank_order(chains.chains[a].fitness, chains.chains[b].fitness));
         let from_chains: Vec<Individual> =
@@ -170,16 +182,22 @@ impl Optimizer for Tandem {
     }
 }
 
-/// The tandem's state: the GA's population and the chains.
+/// The tandem's state: the GA's population and the chains, and while the
+/// first phase runs, its particles (the GA's population is empty then).
 pub(crate) struct TandemState {
     ga: GaState,
     chains: Chains,
+    first: Option<(Smc, Particles)>,
 }
 
 impl TandemState {
-    /// Both sides' models, best first (stable: the GA's before the chains' on ties).
-    fn merged(&self) -> Vec<Individual> {
-        let mut all: Vec<Individual> = self.ga.population.clone();
+    /// Both sides' models, best first (stable: the GA's, or the first
+    /// phase's, before the chains' on ties).
+    fn merged(&self, graph: &Graph) -> Vec<Individual> {
+        let mut all: Vec<Individual> = match &self.first {
+            Some((smc, particles)) => smc.report(graph, particles).into_owned(),
+            None => self.ga.population.clone(),
+        };
         all.extend(self.chains.chains.iter().cloned());
         all.sort_by(|a, b| rank_order(a.fitness, b.fitness));
         all
@@ -204,11 +222,24 @@ impl Method for Tandem {
 
     fn init<F: Fitness>(&self, cx: &mut Context<'_, '_, F>) -> Result<TandemState, OptimizeError> {
         let chains = self.rjmcmc().init(cx)?;
+        if let Some(params) = self.params.first_phase {
+            let smc = Smc::new(params);
+            let particles = smc.init(cx)?;
+            return Ok(TandemState {
+                ga: GaState::new(Vec::new()),
+                chains,
+                first: Some((smc, particles)),
+            });
+        }
         let initial = self
             .ga()
             .initial_population(cx.graph, cx.seed, GA_STREAMS)?;
         let ga = GaState::new(cx.evaluate_within_budget(initial));
-        Ok(TandemState { ga, chains })
+        Ok(TandemState {
+            ga,
+            chains,
+            first: None,
+        })
     }
 
     fn restore(
@@ -219,25 +250,44 @@ impl Method for Tandem {
         let SavedState::Tandem { ga, chains } = &checkpoint.state else {
             return Err(OptimizeError::Checkpoint("it holds no tandem state".into()));
         };
+        let chains = self.rjmcmc().restore_state(graph, chains)?;
+        if let SavedState::Particles { .. } = ga.as_ref() {
+            let Some(params) = self.params.first_phase else {
+                return Err(OptimizeError::Checkpoint(
+                    "it holds SMC particles, but this tandem has no first phase".into(),
+                ));
+            };
+            let smc = Smc::new(params);
+            return Ok(TandemState {
+                ga: GaState::new(Vec::new()),
+                chains,
+                first: Some((smc, smc.restore_state(graph, ga)?)),
+            });
+        }
         Ok(TandemState {
             ga: self.ga().restore_state(graph, ga)?,
-            chains: self.rjmcmc().restore_state(graph, chains)?,
+            chains,
+            first: None,
         })
     }
 
     fn save(&self, graph: &Graph, state: &TandemState) -> SavedState {
+        let ga = match &state.first {
+            Some((smc, particles)) => smc.save(graph, particles),
+            None => self.ga().save_state(graph, &state.ga),
+        };
         SavedState::Tandem {
-            ga: Box::new(self.ga().save_state(graph, &state.ga)),
+            ga: Box::new(ga),
             chains: Box::new(self.rjmcmc().save_state(graph, &state.chains)),
         }
     }
 
-    fn report<'s>(&self, _graph: &Graph, state: &'s TandemState) -> Cow<'s, [Individual]> {
-        Cow::Owned(state.merged())
+    fn report<'s>(&self, graph: &Graph, state: &'s TandemState) -> Cow<'s, [Individual]> {
+        Cow::Owned(state.merged(graph))
     }
 
-    fn final_population(&self, _graph: &Graph, state: TandemState) -> Vec<Individual> {
-        state.merged()
+    fn final_population(&self, graph: &Graph, state: TandemState) -> Vec<Individual> {
+        state.merged(graph)
     }
 
     fn step<F: Fitness>(
@@ -246,6 +296,19 @@ impl Method for Tandem {
         state: &mut TandemState,
     ) -> Result<ControlFlow<Vec<Individual>>, OptimizeError> {
         let generation = cx.generation();
+        if let Some((smc, particles)) = &mut state.first {
+            // The first phase: the particles grow, the chains wait.
+            let smc = *smc;
+            if let ControlFlow::Break(_) = smc.step(cx, particles)? {
+                return Ok(ControlFlow::Break(state.merged(cx.graph)));
+            }
+            if smc.exhausted(particles) {
+                let models = smc.report(cx.graph, particles).into_owned();
+                state.ga = self.ga().population_from(cx, &models, GA_STREAMS)?;
+                state.first = None;
+            }
+            return Ok(ControlFlow::Continue(()));
+        }
         // One evaluation for both sides, so an interrupt drops the whole
         // generation: the GA's children first, then the chains' proposals.
         let rjmcmc = self.rjmcmc();
@@ -257,7 +320,7 @@ impl Method for Tandem {
                 .next_generation(cx.graph, &mut state.ga, cx.seed, generation, GA_STREAMS);
         next.append(&mut candidates);
         let Some(mut evaluated) = cx.evaluate_interruptible(next) else {
-            return Ok(ControlFlow::Break(state.merged()));
+            return Ok(ControlFlow::Break(state.merged(cx.graph)));
         };
         let chains = evaluated.split_off(evaluated.len() - chain_count);
         state.ga.settle(evaluated);

@@ -66,7 +66,10 @@ pub(super) fn from_file(
             Method::Hybrid,
             hybrid(ctx, f, ga, rjmcmc, [smc_config, sosmc])?,
         ),
-        (Method::Tandem, tandem(ctx, f, ga, rjmcmc)?),
+        (
+            Method::Tandem,
+            tandem(ctx, f, ga, rjmcmc, [smc_config, sosmc])?,
+        ),
     ]))
 }
 
@@ -293,14 +296,11 @@ fn hybrid(
     f: &ExperimentFile,
     ga: MethodConfig,
     rjmcmc: MethodConfig,
-    [smc, sosmc]: [MethodConfig; 2],
+    smc_configs: [MethodConfig; 2],
 ) -> Result<MethodConfig, ExperimentError> {
     let (MethodParams::Ga(ga_params), MethodParams::Rjmcmc(rjmcmc)) = (ga.params, rjmcmc.params)
     else {
         unreachable!("the GA's and RJMCMC's configurations hold their parameters")
-    };
-    let (MethodParams::Smc(smc), MethodParams::Smc(sosmc)) = (smc.params, sosmc.params) else {
-        unreachable!("the SMC and SOSMC configurations hold their parameters")
     };
     let mut params = HybridParams {
         ga: ga_params,
@@ -318,11 +318,7 @@ fn hybrid(
     let h = t.get_ref();
     params.patience = h.patience.unwrap_or(HYBRID_PATIENCE);
     params.patience_share = h.patience_share.unwrap_or(HYBRID_PATIENCE_SHARE);
-    params.first_phase = match h.first_phase {
-        None | Some(FirstPhaseFile::None) => None,
-        Some(FirstPhaseFile::Smc) => Some(smc),
-        Some(FirstPhaseFile::Sosmc) => Some(sosmc),
-    };
+    params.first_phase = first_phase(h.first_phase, smc_configs);
     let problems = params.problems();
     let mut config = config(
         ctx,
@@ -345,6 +341,7 @@ fn tandem(
     f: &ExperimentFile,
     ga: MethodConfig,
     rjmcmc: MethodConfig,
+    smc_configs: [MethodConfig; 2],
 ) -> Result<MethodConfig, ExperimentError> {
     let (MethodParams::Ga(ga_params), MethodParams::Rjmcmc(rjmcmc)) = (ga.params, rjmcmc.params)
     else {
@@ -363,6 +360,7 @@ fn tandem(
     params.ga.local_search = table.local_search.unwrap_or(params.ga.local_search);
     params.ga.elite_dedup = table.elite_dedup.unwrap_or(params.ga.elite_dedup);
     params.ga.adaptive_split = table.adaptive_split.unwrap_or(params.ga.adaptive_split);
+    params.first_phase = first_phase(table.first_phase, smc_configs);
     let problems = params.problems();
     let mut config = config(
         ctx,
@@ -374,4 +372,21 @@ fn tandem(
     )?;
     config.budget = config.budget.or(ga.budget);
     Ok(config)
+}
+
+/// The first phase `[hybrid]` or `[tandem]` asks for: the `[smc]` or
+/// `[sosmc]` settings of `smc_configs` (in that order), or none.
+fn first_phase(
+    choice: Option<FirstPhaseFile>,
+    smc_configs: [MethodConfig; 2],
+) -> Option<SmcParams> {
+    let [smc, sosmc] = smc_configs.map(|c| match c.params {
+        MethodParams::Smc(p) => p,
+        _ => unreachable!("the SMC and SOSMC configurations hold their parameters"),
+    });
+    match choice {
+        None | Some(FirstPhaseFile::None) => None,
+        Some(FirstPhaseFile::Smc) => Some(smc),
+        Some(FirstPhaseFile::Sosmc) => Some(sosmc),
+    }
 }
