@@ -13,13 +13,14 @@ use super::driver::{Context, Method, Run, drive};
 use super::evaluation::Candidate;
 use super::fitness::is_valid_score;
 use super::rjmcmc::propose;
-use super::selection::{Roulette, RouletteShift, best_distinct, rank_order, tournament};
+use super::selection::{
+    Roulette, RouletteShift, best_distinct, best_distinct_repeated, rank_order, tournament,
+};
 use super::{Fitness, Individual, OptimizeError, Optimizer, RunResult, purpose};
 use crate::graph::Graph;
 use crate::ops::{
     CrossoverConfig, InitLength, MutationSplit, crossover, mutate, random_individual,
 };
-
 use crate::rng::{ShapeRng, stream};
 
 /// The stream `(seed, base..., island)`; a lone GA (`island = None`) draws
@@ -277,14 +278,12 @@ impl Ga {
     ) -> Result<GaState, OptimizeError> {
         let mut sorted: Vec<&Individual> = models.iter().collect();
         sorted.sort_by(|a, b| rank_order(a.fitness, b.fitness));
-        let best = best_distinct(cx.graph, sorted.into_iter(), self.params.population);
-        if best.is_empty() {
+        let population =
+            best_distinct_repeated(cx.graph, sorted.into_iter(), self.params.population);
+        if population.is_empty() {
             let initial = self.initial_population(cx.graph, cx.seed, island)?;
             return Ok(GaState::new(cx.evaluate_within_budget(initial)));
         }
-        let population = (0..self.params.population)
-            .map(|k| best[k % best.len()].clone())
-            .collect();
         Ok(GaState::new(population))
     }
 

@@ -11,7 +11,7 @@ use super::checkpoint::{Checkpoint, SavedState};
 use super::driver::{Context, Method, Run, drive};
 use super::ga::GaState;
 use super::rjmcmc::Chains;
-use super::selection::{best_distinct, rank_order};
+use super::selection::{best_distinct_repeated, rank_order};
 use super::smc::Particles;
 use super::{
     Fitness, Ga, GaParams, Individual, OptimizeError, Optimizer, Rjmcmc, RjmcmcParams, RunResult,
@@ -124,17 +124,11 @@ impl Hybrid {
     /// The chains the GA hands over: its best distinct valid models (the
     /// population is sorted best first), repeated when there are fewer.
     fn chains_from(&self, graph: &Graph, population: &[Individual]) -> Chains {
-        let mut best: Vec<Individual> =
-            best_distinct(graph, population.iter(), self.params.rjmcmc.chains)
-                .into_iter()
-                .cloned()
-                .collect();
-        if best.is_empty() {
-            best.push(population[0].clone());
+        let n = self.params.rjmcmc.chains;
+        let mut chains = best_distinct_repeated(graph, population.iter(), n);
+        if chains.is_empty() {
+            chains = vec![population[0].clone(); n];
         }
-        let chains = (0..self.params.rjmcmc.chains)
-            .map(|k| best[k % best.len()].clone())
-            .collect();
         Chains {
             chains,
             betas: self.params.rjmcmc.ladder.betas(self.params.rjmcmc.chains),

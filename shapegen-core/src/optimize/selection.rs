@@ -36,6 +36,21 @@ pub(crate) fn best_distinct<'a>(
         .collect()
 }
 
+/// `n` individuals: the best distinct valid ones of `sorted` (see
+/// [`best_distinct`]), repeated in turn when there are fewer; empty if none
+/// is valid. A new population or set of chains started from another's best.
+pub(crate) fn best_distinct_repeated<'a>(
+    graph: &Graph,
+    sorted: impl Iterator<Item = &'a Individual>,
+    n: usize,
+) -> Vec<Individual> {
+    let best = best_distinct(graph, sorted, n);
+    if best.is_empty() {
+        return Vec::new();
+    }
+    (0..n).map(|k| best[k % best.len()].clone()).collect()
+}
+
 /// How roulette weights are made from fitness values that may be negative.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
