@@ -297,8 +297,7 @@ pub(crate) fn clip_depth(poly: &mut Vec<DVec3>, tmp: &mut Vec<DVec3>, near: f64,
 /// height `h`: `r0..r1` (empty if `r0 >= r1`).
 #[inline(always)]
 fn row_range(ymin: f64, ymax: f64, h: f64) -> (f64, f64) {
-    let lo = if ymin > -1.0 { ymin } else { -1.0 };
-    let hi = if ymax < h + 1.0 { ymax } else { h + 1.0 };
+    let (lo, hi) = (within(ymin, h), within(ymax, h));
     (
         f64::from(ceil_small(lo - 0.5).max(0)),
         f64::from(ceil_small(hi - 0.5).min(h as i32)),
@@ -364,9 +363,7 @@ fn emit_row(row: f64, xl: f64, xr: f64, w: f64, f: &mut impl FnMut(PixelSpan)) {
     if xl.partial_cmp(&xr) != Some(std::cmp::Ordering::Less) {
         return;
     }
-    let lo = if xl > -1.0 { xl } else { -1.0 };
-    let hi = if xr < w + 1.0 { xr } else { w + 1.0 };
-    // Both in [-1.5, w + 0.5]: small enough for `ceil_small`.
+    let (lo, hi) = (within(xl, w), within(xr, w));
     let c0 = ceil_small(lo - 0.5).max(0);
     let c1 = ceil_small(hi - 0.5).min(w as i32);
     if c0 < c1 {
@@ -376,6 +373,16 @@ fn emit_row(row: f64, xl: f64, xr: f64, w: f64, f: &mut impl FnMut(PixelSpan)) {
             c1: c1 as u32,
         });
     }
+}
+
+/// A pixel coordinate clamped to `[−1, n + 1]` for an image `n` pixels
+/// across (NaN becomes −1): the pixel centres within the image lie on the
+/// same side of it, and `ceil_small(v − 0.5)` is exact for it, where a
+/// coordinate beyond ±2³¹ (far off screen) would wrap around.
+#[inline(always)]
+fn within(v: f64, n: f64) -> f64 {
+    let v = if v > -1.0 { v } else { -1.0 };
+    if v < n + 1.0 { v } else { n + 1.0 }
 }
 
 /// `⌈y⌉` for `|y| < 2³⁰`, exactly, without a float-to-integer conversion:
@@ -591,6 +598,46 @@ mod tests {
                 }
             };
             assert_eq!(f64::from(ceil_small(y)), y.ceil(), "{y}");
+        }
+    }
+
+    /// Triangles far off the image (up to 10¹³ pixels away, where
+    /// `ceil_small` alone would wrap around) cover nothing, and triangles
+    /// that far around it cover all of it, in both fills.
+    #[test]
+    fn far_off_triangles_are_filled_exactly() {
+        let camera = orthographic((40, 30));
+        let (w, h) = (40.0, 30.0);
+        let mut rng = Lcg(5);
+        let mut edges = Vec::new();
+        let fills = |tri: [DVec2; 3], edges: &mut Vec<Edge>| {
+            let (mut a, mut b) = (0u32, 0u32);
+            fill_triangle(&camera, tri, &mut |s| a += s.c1 - s.c0);
+            fill_convex(&camera, &tri, edges, &mut |s| b += s.c1 - s.c0);
+            (a, b)
+        };
+        for i in 0..20_000 {
+            let far = 10f64.powf(3.0 + rng.unit() * 10.0);
+            // Beyond one side of the image, spread along it.
+            let mut off = || {
+                let along = rng.unit() * 2.0 * far - far;
+                let away = far * (1.0 + rng.unit());
+                match i % 4 {
+                    0 => DVec2::new(w + away, along),
+                    1 => DVec2::new(-away, along),
+                    2 => DVec2::new(along, h + away),
+                    _ => DVec2::new(along, -away),
+                }
+            };
+            let tri = [off(), off(), off()];
+            assert_eq!(fills(tri, &mut edges), (0, 0), "{tri:?}");
+            // Around the image, with its corners far inside.
+            let around = [
+                DVec2::new(-far, -far),
+                DVec2::new(3.0 * far + w, -far),
+                DVec2::new(-far, 3.0 * far + h),
+            ];
+            assert_eq!(fills(around, &mut edges), (1200, 1200), "{around:?}");
         }
     }
 
