@@ -214,6 +214,14 @@ fn every_optimizer_resumes_bit_identically() {
                 ..TandemParams::new(ga, RjmcmcParams::paper(6, init))
             };
             check(&Tandem::new(params), seed);
+            // Balanced: the lean and the interval's measures are saved.
+            check(
+                &Tandem::new(TandemParams {
+                    balance: true,
+                    ..params
+                }),
+                seed,
+            );
         }
     }
 }

@@ -29,7 +29,7 @@ fn both_sides_run_and_report_together() {
     let f = FnFitness(|c: &Chromosome| -(c.len() as f64 - 30.0).abs());
     let mut sizes = Vec::new();
     let mut observer = |s: &GenerationStats<'_>| {
-        let SavedState::Tandem { ga, chains } = s.checkpoint().state else {
+        let SavedState::Tandem { ga, chains, .. } = s.checkpoint().state else {
             panic!("a tandem saves a tandem state");
         };
         let (SavedState::Population { individuals, .. }, SavedState::Chains { chains, .. }) =
@@ -75,7 +75,7 @@ fn a_first_phase_grows_particles_while_the_chains_wait_then_seeds_the_ga() {
     // Per reported generation: the GA side's kind and size, the chains' states.
     let mut seen = Vec::new();
     let mut observer = |s: &GenerationStats<'_>| {
-        let SavedState::Tandem { ga, chains } = s.checkpoint().state else {
+        let SavedState::Tandem { ga, chains, .. } = s.checkpoint().state else {
             panic!("a tandem saves a tandem state");
         };
         let SavedState::Chains { chains, .. } = *chains else {
@@ -134,6 +134,74 @@ fn same_seed_same_result_whatever_the_thread_count() {
     assert_ne!(one.population, other.population);
 }
 
+/// The tandem of [`tandem`] with the balance on.
+fn balanced(interval: u64) -> Tandem {
+    Tandem::new(TandemParams {
+        balance: true,
+        ..tandem(interval).params
+    })
+}
+
+/// With the balance on, the lean moves with what each side finds, and a
+/// generation evaluates only the sides that step in it: the GA's 50
+/// children and the chains' 12 proposals when both step, one side's alone
+/// otherwise.
+#[test]
+fn a_balanced_tandem_gives_the_evaluations_to_the_side_that_finds_more() {
+    let graph = blocks_graph();
+    let blocks = shapegen_core::demo::BlocksTarget {
+        graph: &graph,
+        blocks: 40,
+    };
+    let (mut leans, mut evaluations) = (Vec::new(), Vec::new());
+    let mut observer = |s: &GenerationStats<'_>| {
+        let SavedState::Tandem { balance, .. } = s.checkpoint().state else {
+            panic!("a tandem saves a tandem state");
+        };
+        leans.push(balance.expect("a balanced tandem saves its balance").lean());
+        evaluations.push(s.evaluations);
+        std::ops::ControlFlow::Continue(())
+    };
+    balanced(2)
+        .run(&graph, &blocks, &Budget::generations(200), 3, &mut observer)
+        .unwrap();
+    assert!(leans.iter().any(|&l| l != 0), "{leans:?}");
+    // Generation g's evaluations, with the lean it started with (the
+    // lean of generation g − 1's end; the exchange after it moves it).
+    let made: Vec<u64> = evaluations.windows(2).map(|w| w[1] - w[0]).collect();
+    for (g, (&lean, &n)) in (1u64..).zip(leans.iter().zip(&made)) {
+        let ga = lean <= 0 || g.is_multiple_of(1 << lean);
+        let chains = lean >= 0 || g.is_multiple_of(1 << -lean);
+        let expected = 50 * u64::from(ga) + 12 * u64::from(chains);
+        // (Local search adds none here; the GA's children are its 50.)
+        assert_eq!(n, expected, "generation {g}, lean {lean}");
+    }
+    // Off, nothing is saved and every generation evaluates both.
+    let mut saved = Vec::new();
+    let mut observer = |s: &GenerationStats<'_>| {
+        let SavedState::Tandem { balance, .. } = s.checkpoint().state else {
+            panic!("a tandem saves a tandem state");
+        };
+        saved.push(balance);
+        std::ops::ControlFlow::Continue(())
+    };
+    tandem(2)
+        .run(&graph, &blocks, &Budget::generations(20), 3, &mut observer)
+        .unwrap();
+    assert!(saved.iter().all(Option::is_none));
+}
+
+#[test]
+fn a_balanced_tandem_reaches_the_optimum_and_beats_random_search() {
+    crate::common::reaches_the_blocks_optimum(|seed| balanced(2 + seed), &[1, 2, 3]);
+}
+
+#[test]
+fn a_balanced_tandem_is_deterministic_whatever_the_thread_count() {
+    let (one, other) = crate::common::same_result_whatever_the_thread_count(&balanced(2), 60);
+    assert_ne!(one.population, other.population);
+}
+
 #[test]
 fn exchange_settings_are_checked() {
     let p = tandem(0).params;
@@ -155,13 +223,14 @@ proptest! {
 
     /// Every model of tandem runs on random graphs is a valid chromosome.
     #[test]
-    fn models_are_valid_chromosomes(graph in crate::common::graph(), seed in any::<u64>(), interval in 1u64..4, local_search in 0usize..3, adaptive_split in any::<bool>(), first in 0usize..3) {
+    fn models_are_valid_chromosomes(graph in crate::common::graph(), seed in any::<u64>(), interval in 1u64..4, local_search in 0usize..3, adaptive_split in any::<bool>(), first in 0usize..3, balance in any::<bool>()) {
         let f = FnFitness(|c: &Chromosome| -(c.len() as f64 - 10.0).abs());
         let init = InitLength::Between { lo: 1, hi: 30 };
         let params = TandemParams {
             interval,
             migrants: 2,
             first_phase: [None, Some(SmcParams::paper(6)), Some(SmcParams::paper_sosmc(6))][first],
+            balance,
             ..TandemParams::new(
                 GaParams { population: 10, elites: 2, init, local_search, adaptive_split, ..GaParams::paper_spaceship() },
                 RjmcmcParams::paper(4, init),

@@ -300,6 +300,8 @@ pub(super) struct TandemFile {
     pub elite_dedup: Option<bool>,
     pub adaptive_split: Option<bool>,
     pub first_phase: Option<FirstPhaseFile>,
+    pub balance: Option<bool>,
+    pub to_chains: Option<bool>,
     pub budget: Option<Spanned<BudgetFile>>,
 }
 

@@ -627,6 +627,31 @@ fn the_adaptive_split_is_read_for_the_ga_and_the_tandem() {
 }
 
 #[test]
+fn the_tandem_balance_is_read() {
+    let read = |table: &str| {
+        let e = load(&format!("{MINIMAL}{table}")).unwrap();
+        let MethodParams::Tandem(p) = e.method(Method::Tandem).params else {
+            panic!("a tandem holds its parameters");
+        };
+        (p.balance, p.to_chains)
+    };
+    // The recommended tandem's: balanced, the GA's best kept from the chains.
+    assert_eq!(read(""), (true, false));
+    assert_eq!(
+        read("[tandem]\nbalance = true\nto_chains = true\n"),
+        (true, true)
+    );
+    assert_eq!(
+        read("[tandem]\nbalance = false\nto_chains = false\n"),
+        (false, false)
+    );
+    for key in ["balance", "to_chains"] {
+        let (_, at, msg) = invalid(&format!("{MINIMAL}[tandem]\n{key} = \"yes\"\n"));
+        assert_eq!(at, format!("tandem.{key}"), "{msg}");
+    }
+}
+
+#[test]
 fn a_first_phase_takes_the_smc_or_sosmc_settings() {
     let tables = "[ga]\npopulation = 120\nelites = 20\ninit_length = 30\nmutation_rate = 0.3\nsplit = { grow = 1.0, cut = 1.0, alter = 1.0 }\n[smc]\nparticles = 70\n[sosmc]\nparticles = 80\n";
     let first = |toml: &str| {

@@ -19,7 +19,7 @@ use std::time::Duration;
 
 use serde::{Deserialize, Serialize};
 
-use super::{Individual, OptimizeError};
+use super::{Balance, Individual, OptimizeError};
 use crate::genome::{Chromosome, ChromosomeData};
 use crate::graph::Graph;
 
@@ -120,6 +120,10 @@ pub enum SavedState {
         ga: Box<SavedState>,
         /// The chains ([`SavedState::Chains`]).
         chains: Box<SavedState>,
+        /// How the two sides share the evaluations, if the tandem balances
+        /// them ([`TandemParams::balance`](super::TandemParams::balance)).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        balance: Option<Balance>,
     },
 }
 

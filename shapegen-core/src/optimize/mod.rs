@@ -15,6 +15,7 @@
 //! the current rayon pool; run inside `ThreadPool::install` to choose threads.
 
 mod adaptive_split;
+mod balance;
 mod budget;
 mod checkpoint;
 mod driver;
@@ -35,6 +36,7 @@ mod tandem;
 use std::time::Duration;
 
 pub use adaptive_split::{AdaptiveSplit, MIN_SHARE, SMOOTHING};
+pub use balance::{Balance, MAX_LEAN};
 pub use budget::{Budget, StopReason};
 pub use checkpoint::{
     CHECKPOINT_VERSION, Checkpoint, FNV1A_START, SavedIndividual, SavedParticle, SavedState, fnv1a,

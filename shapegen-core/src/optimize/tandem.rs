@@ -5,6 +5,7 @@ use std::ops::ControlFlow;
 
 use serde::{Deserialize, Serialize};
 
+use super::balance::Balance;
 use super::checkpoint::{Checkpoint, SavedState};
 use super::driver::{Context, Method, Run, drive};
 use super::ga::GaState;
@@ -38,6 +39,26 @@ pub struct TandemParams {
     /// individuals. `None` (the default): no first phase.
     #[serde(default)]
     pub first_phase: Option<SmcParams>,
+    /// Whether the two sides' shares of the evaluations follow what each
+    /// finds (see [`balance`](super::balance)): the side that pushes the best
+    /// fitness further per evaluation over an exchange interval leans the
+    /// run toward itself, and the other steps only every 2, 4 or 8
+    /// generations. Off: both step every generation.
+    #[serde(default)]
+    pub balance: bool,
+    /// Whether an exchange also sends the GA's best to the chains (to
+    /// those holding the worst models, where better). Off: only the
+    /// chains' best go to the GA, and the chains explore on their own;
+    /// where the GA settles in one basin (a spaceship that must grow
+    /// toward a volume to reach it), its models would pull every chain
+    /// into it.
+    #[serde(default = "yes")]
+    pub to_chains: bool,
+}
+
+/// `true`, the default of [`TandemParams::to_chains`] in older files.
+fn yes() -> bool {
+    true
 }
 
 /// The default [`TandemParams::interval`].
@@ -58,24 +79,33 @@ impl TandemParams {
             interval: TANDEM_INTERVAL,
             migrants: TANDEM_MIGRANTS,
             first_phase: None,
+            balance: false,
+            to_chains: true,
         }
     }
 
     /// The tandem as shapegen recommends it: the GA of `ga` with elite
     /// deduplication and [`TANDEM_LOCAL_SEARCH`] local-search children a
     /// generation (at most its non-elite places), beside the chains of
-    /// `rjmcmc`, with the default exchange. `reproduction.md` (*Beyond the
-    /// paper*) has the measurements behind these choices.
+    /// `rjmcmc`, with the default exchange interval and migrants, the
+    /// [`balance`](Self::balance) on, and the chains' best going to the GA
+    /// but not the GA's to the chains ([`to_chains`](Self::to_chains)
+    /// off). `reproduction.md` (*Beyond the paper*) has the measurements
+    /// behind these choices.
     #[must_use]
     pub fn recommended(ga: GaParams, rjmcmc: RjmcmcParams) -> Self {
-        Self::new(
-            GaParams {
-                elite_dedup: true,
-                local_search: TANDEM_LOCAL_SEARCH.min(ga.children()),
-                ..ga
-            },
-            rjmcmc,
-        )
+        Self {
+            balance: true,
+            to_chains: false,
+            ..Self::new(
+                GaParams {
+                    elite_dedup: true,
+                    local_search: TANDEM_LOCAL_SEARCH.min(ga.children()),
+                    ..ga
+                },
+                rjmcmc,
+            )
+        }
     }
 
     /// Every problem with these parameters.
@@ -112,8 +142,10 @@ impl TandemParams {
 /// by side: every generation the GA breeds and evaluates a generation and
 /// every chain makes one proposal. Every `interval` generations the two
 /// trade their best: the chains' `migrants` best distinct models replace the
-/// GA's worst, and the GA's `migrants` best distinct models replace the
-/// states of the chains that hold the worst models, where they are better.
+/// GA's worst, and (if [`TandemParams::to_chains`]) the GA's `migrants` best
+/// distinct models replace the states of the chains that hold the worst
+/// models, where they are better. With [`TandemParams::balance`], the side
+/// that finds more gets more of the evaluations (see `balance`).
 ///
 /// The GA exploits a target fast but can collapse onto one model it cannot
 /// leave, or spend its time on large models early; the tempered chains keep
@@ -154,14 +186,16 @@ impl Tandem {
                 .into_iter()
                 .cloned()
                 .collect();
-        let from_ga: Vec<Individual> = best_distinct(graph, ga.population.iter(), n)
-            .into_iter()
-            .cloned()
-            .collect();
         // The chains' worst first; each GA migrant takes one place if better.
-        for (migrant, &place) in from_ga.into_iter().zip(by_fitness.iter().rev()) {
-            if rank_order(migrant.fitness, chains.chains[place].fitness).is_lt() {
-                chains.chains[place] = migrant;
+        if self.params.to_chains {
+            let from_ga: Vec<Individual> = best_distinct(graph, ga.population.iter(), n)
+                .into_iter()
+                .cloned()
+                .collect();
+            for (migrant, &place) in from_ga.into_iter().zip(by_fitness.iter().rev()) {
+                if rank_order(migrant.fitness, chains.chains[place].fitness).is_lt() {
+                    chains.chains[place] = migrant;
+                }
             }
         }
         let mut population = std::mem::take(&mut ga.population);
@@ -188,9 +222,27 @@ pub(crate) struct TandemState {
     ga: GaState,
     chains: Chains,
     first: Option<(Smc, Particles)>,
+    /// How the sides share the evaluations (even unless
+    /// [`TandemParams::balance`]).
+    balance: Balance,
 }
 
 impl TandemState {
+    /// The best fitness of the GA's population and of the chains (−∞ for
+    /// none, NaN ranked below every number).
+    fn bests(&self) -> [f64; 2] {
+        let best = |models: &mut dyn Iterator<Item = &Individual>| {
+            models
+                .map(|m| m.fitness)
+                .filter(|f| !f.is_nan())
+                .fold(f64::NEG_INFINITY, f64::max)
+        };
+        [
+            best(&mut self.ga.population.iter()),
+            best(&mut self.chains.chains.iter()),
+        ]
+    }
+
     /// Both sides' models, best first (stable: the GA's, or the first
     /// phase's, before the chains' on ties).
     fn merged(&self, graph: &Graph) -> Vec<Individual> {
@@ -229,6 +281,7 @@ impl Method for Tandem {
                 ga: GaState::new(Vec::new()),
                 chains,
                 first: Some((smc, particles)),
+                balance: Balance::new(),
             });
         }
         let initial = self
@@ -239,6 +292,7 @@ impl Method for Tandem {
             ga,
             chains,
             first: None,
+            balance: Balance::new(),
         })
     }
 
@@ -247,10 +301,16 @@ impl Method for Tandem {
         graph: &Graph,
         checkpoint: &Checkpoint,
     ) -> Result<TandemState, OptimizeError> {
-        let SavedState::Tandem { ga, chains } = &checkpoint.state else {
+        let SavedState::Tandem {
+            ga,
+            chains,
+            balance,
+        } = &checkpoint.state
+        else {
             return Err(OptimizeError::Checkpoint("it holds no tandem state".into()));
         };
         let chains = self.rjmcmc().restore_state(graph, chains)?;
+        let balance = balance.unwrap_or_default();
         if let SavedState::Particles { .. } = ga.as_ref() {
             let Some(params) = self.params.first_phase else {
                 return Err(OptimizeError::Checkpoint(
@@ -262,12 +322,14 @@ impl Method for Tandem {
                 ga: GaState::new(Vec::new()),
                 chains,
                 first: Some((smc, smc.restore_state(graph, ga)?)),
+                balance,
             });
         }
         Ok(TandemState {
             ga: self.ga().restore_state(graph, ga)?,
             chains,
             first: None,
+            balance,
         })
     }
 
@@ -279,6 +341,7 @@ impl Method for Tandem {
         SavedState::Tandem {
             ga: Box::new(ga),
             chains: Box::new(self.rjmcmc().save_state(graph, &state.chains)),
+            balance: self.params.balance.then_some(state.balance),
         }
     }
 
@@ -310,23 +373,45 @@ impl Method for Tandem {
             return Ok(ControlFlow::Continue(()));
         }
         // One evaluation for both sides, so an interrupt drops the whole
-        // generation: the GA's children first, then the chains' proposals.
+        // generation: the GA's children first, then the chains' proposals
+        // (each side only in the generations where it steps).
         let rjmcmc = self.rjmcmc();
-        let (proposals, mut candidates) =
-            rjmcmc.proposals(cx.graph, cx.seed, generation, &state.chains);
+        let (ga_steps, chains_step) = (
+            state.balance.ga_steps(generation),
+            state.balance.chains_step(generation),
+        );
+        let (proposals, mut candidates) = if chains_step {
+            rjmcmc.proposals(cx.graph, cx.seed, generation, &state.chains)
+        } else {
+            Default::default()
+        };
         let chain_count = candidates.len();
-        let mut next =
+        let mut next = if ga_steps {
             self.ga()
-                .next_generation(cx.graph, &mut state.ga, cx.seed, generation, GA_STREAMS);
+                .next_generation(cx.graph, &mut state.ga, cx.seed, generation, GA_STREAMS)
+        } else {
+            Vec::new()
+        };
         next.append(&mut candidates);
         let Some(mut evaluated) = cx.evaluate_interruptible(next) else {
             return Ok(ControlFlow::Break(state.merged(cx.graph)));
         };
         let chains = evaluated.split_off(evaluated.len() - chain_count);
-        state.ga.settle(evaluated);
-        rjmcmc.accept(cx, &mut state.chains, chains, &proposals);
+        state.balance.spent(evaluated.len(), chain_count);
+        if ga_steps {
+            state.ga.settle(evaluated);
+        }
+        if chains_step {
+            rjmcmc.accept(cx, &mut state.chains, chains, &proposals);
+        }
         if generation.is_multiple_of(self.params.interval) {
+            if self.params.balance {
+                state.balance.judge(state.bests());
+            }
             self.exchange(cx.graph, state);
+            if self.params.balance {
+                state.balance.start(state.bests());
+            }
         }
         Ok(ControlFlow::Continue(()))
     }

@@ -361,6 +361,8 @@ fn tandem(
     params.ga.elite_dedup = table.elite_dedup.unwrap_or(params.ga.elite_dedup);
     params.ga.adaptive_split = table.adaptive_split.unwrap_or(params.ga.adaptive_split);
     params.first_phase = first_phase(table.first_phase, smc_configs);
+    params.balance = table.balance.unwrap_or(params.balance);
+    params.to_chains = table.to_chains.unwrap_or(params.to_chains);
     let problems = params.problems();
     let mut config = config(
         ctx,
