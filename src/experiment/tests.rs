@@ -135,15 +135,24 @@ fn methods_parse_by_name() {
 }
 
 /// Every experiment in `experiments/<folder>`, loaded, each with a budget
-/// for every method; `None` (the test skips) without the paper's data.
+/// for every method; `None` (the test skips) without the paper's data (or
+/// for `user_targets`, the models').
 fn load_folder(folder: &str) -> Option<Vec<Experiment>> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("experiments")
         .join(folder);
-    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/paper");
-    if !data.is_dir() {
-        eprintln!("skipped: no paper data at {}", data.display());
-        return None;
+    let needs: &[&str] = match folder {
+        "user_targets" => &["paper", "models"],
+        _ => &["paper"],
+    };
+    for data in needs {
+        let data = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../shared/data")
+            .join(data);
+        if !data.is_dir() {
+            eprintln!("skipped: no data at {}", data.display());
+            return None;
+        }
     }
     let mut experiments = Vec::new();
     for entry in std::fs::read_dir(&dir).unwrap() {
@@ -157,6 +166,26 @@ fn load_folder(folder: &str) -> Option<Vec<Experiment>> {
     }
     experiments.sort_by(|a, b| a.name().cmp(b.name()));
     Some(experiments)
+}
+
+/// The experiments on targets of `../shared/data/models` (a user's own
+/// meshes and renders) load, with an optimum for the curves.
+#[test]
+fn the_user_target_experiments_load() {
+    let Some(experiments) = load_folder("user_targets") else {
+        return;
+    };
+    let names: Vec<&str> = experiments.iter().map(Experiment::name).collect();
+    assert_eq!(
+        names,
+        [
+            "city_skyline_teapot",
+            "city_volume_cow",
+            "spaceship_spot",
+            "tree_sketch_bunny"
+        ]
+    );
+    assert!(experiments.iter().all(|e| e.optimum().is_some()));
 }
 
 #[test]
