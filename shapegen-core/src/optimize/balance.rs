@@ -5,8 +5,9 @@
 //! the best fitness further per evaluation: beyond the frontier, the best
 //! either side held when the interval started (a side that lags behind
 //! the other earns nothing by catching up). The side that gained more per
-//! evaluation (or alone gained) takes one step of *lean* toward itself; the other then steps only every 2, 4 or 8 generations
-//! ([`MAX_LEAN`]), so it keeps a share from which it can win the lean back.
+//! evaluation (or alone gained) takes one step of *lean* toward itself;
+//! the other then steps only every 2, 4 or 8 generations ([`MAX_LEAN`]),
+//! so it keeps a share from which it can win the lean back.
 //! An interval where neither gains changes nothing. The rule reads fitness
 //! values only, so a run stays deterministic for any thread count.
 

@@ -229,18 +229,15 @@ pub(crate) struct TandemState {
 
 impl TandemState {
     /// The best fitness of the GA's population and of the chains (−∞ for
-    /// none, NaN ranked below every number).
+    /// none; `f64::max` passes over NaN).
     fn bests(&self) -> [f64; 2] {
-        let best = |models: &mut dyn Iterator<Item = &Individual>| {
+        let best = |models: &[Individual]| {
             models
+                .iter()
                 .map(|m| m.fitness)
-                .filter(|f| !f.is_nan())
                 .fold(f64::NEG_INFINITY, f64::max)
         };
-        [
-            best(&mut self.ga.population.iter()),
-            best(&mut self.chains.chains.iter()),
-        ]
+        [best(&self.ga.population), best(&self.chains.chains)]
     }
 
     /// Both sides' models, best first (stable: the GA's, or the first
