@@ -171,6 +171,30 @@ proptest! {
 }
 
 proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    /// A model's bounding sphere, fitted to its meshes' hull vertices, holds
+    /// every placed vertex (however the instances are stretched) and is
+    /// within 6 % of the same construction over every vertex (both are a
+    /// heuristic that the points given steer; 2,000 cases saw at most
+    /// 5.9 %).
+    #[test]
+    fn bounding_spheres_hold_every_vertex(placements in proptest::collection::vec((placement(0.05..3.0, Vec3::splat(-4.0), Vec3::splat(4.0)), 0u16..8), 1..40)) {
+        let meshes = meshes();
+        let prepared = RenderMeshes::new(&shape_meshes(&meshes)).unwrap();
+        let instances: Vec<Instance> = placements.iter().map(|&(transform, shape)| Instance::new(shape, transform)).collect();
+        let sphere = prepared.bounding_sphere(&instances).unwrap();
+        let points: Vec<DVec3> = world_triangles(&meshes, &instances).into_iter().flatten().collect();
+        for p in &points {
+            let d = p.distance(sphere.center);
+            prop_assert!(d <= sphere.radius * (1.0 + 1e-12), "{p} is {d} from the centre, radius {}", sphere.radius);
+        }
+        let reference = BoundingSphere::of(&points).unwrap();
+        prop_assert!(sphere.radius <= reference.radius * 1.06, "{} against {} over every vertex", sphere.radius, reference.radius);
+    }
+}
+
+proptest! {
     #![proptest_config(ProptestConfig { cases: 32, ..ProptestConfig::default() })]
 
     /// Many instances crowded together and seen by fitted cameras (nothing

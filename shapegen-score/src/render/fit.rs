@@ -24,6 +24,19 @@ impl BoundingSphere {
     /// the minimal sphere. `None` for no points.
     #[must_use]
     pub fn of(points: &[DVec3]) -> Option<Self> {
+        let center = Self::fit_center(points)?;
+        let r2 = points
+            .iter()
+            .map(|p| p.distance_squared(center))
+            .fold(0.0, f64::max);
+        Some(Self::with_radius(center, r2.sqrt()))
+    }
+
+    /// [`of`](Self::of)'s centre for `points`: the centre of a sphere that
+    /// holds them all, a few per cent larger than the minimal one. Any
+    /// subset that holds the points' convex hull's vertices gives about the
+    /// same centre (the farthest point from anywhere is such a vertex).
+    pub(crate) fn fit_center(points: &[DVec3]) -> Option<DVec3> {
         let first = *points.first()?;
         let farthest = |from: DVec3| {
             points
@@ -50,24 +63,33 @@ impl BoundingSphere {
         }
         // Shrink: step toward the farthest point and keep the smaller
         // sphere that still holds everything.
+        // The farthest point from the centre changes only with the centre:
+        // a kept candidate's farthest point is the next one's.
         let mut step = 0.5;
+        let mut far = farthest(center);
         for _ in 0..24 {
-            let far = farthest(center);
             let candidate = center + step * 0.1 * (far - center);
-            let r = farthest(candidate).distance(candidate);
+            let far_from_candidate = farthest(candidate);
+            let r = far_from_candidate.distance(candidate);
             if r < radius {
                 center = candidate;
                 radius = r;
+                far = far_from_candidate;
             } else {
                 step *= 0.5;
             }
         }
-        let radius = farthest(center).distance(center);
+        Some(center)
+    }
+
+    /// The sphere about `center` with `radius`, made positive: a single
+    /// point gets a tiny radius relative to its coordinates.
+    pub(crate) fn with_radius(center: DVec3, radius: f64) -> Self {
         let scale = center.abs().max_element().max(1e-30);
-        Some(Self {
+        Self {
             center,
             radius: radius.max(scale * 1e-9).max(1e-12),
-        })
+        }
     }
 
     /// The unit direction from the centre at `azimuth` (about +y, from +x

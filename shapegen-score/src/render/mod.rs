@@ -51,6 +51,59 @@ struct RenderMesh {
     triangles: Vec<[u32; 3]>,
     /// Present if some of the mesh's faces can be skipped (see `back_faces`).
     closure: Option<back_faces::Closure>,
+    /// The vertices farthest along some of [`HULL_DIRECTIONS`] directions:
+    /// vertices of the convex hull, which bounding spheres are fitted to
+    /// (an affine placement keeps them hull vertices).
+    hull: Vec<DVec3>,
+    /// A sphere around every vertex, local: centre and radius.
+    around: (DVec3, f64),
+}
+
+/// How many directions (spread over the sphere) pick a mesh's hull
+/// vertices for fitting bounding spheres ([`RenderMesh::hull`]).
+const HULL_DIRECTIONS: usize = 256;
+
+/// The vertices of `positions` farthest along each of [`HULL_DIRECTIONS`]
+/// directions on a Fibonacci sphere, without repeats, in index order.
+fn hull_vertices(positions: &[DVec3]) -> Vec<DVec3> {
+    let mut chosen = vec![false; positions.len()];
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    for k in 0..HULL_DIRECTIONS {
+        let y = 1.0 - 2.0 * (k as f64 + 0.5) / HULL_DIRECTIONS as f64;
+        let r = (1.0 - y * y).sqrt();
+        let phi = golden * k as f64;
+        let d = DVec3::new(r * phi.cos(), y, r * phi.sin());
+        let best = positions
+            .iter()
+            .enumerate()
+            .max_by(|a, b| a.1.dot(d).total_cmp(&b.1.dot(d)))
+            .map(|(i, _)| i);
+        if let Some(i) = best {
+            chosen[i] = true;
+        }
+    }
+    positions
+        .iter()
+        .zip(chosen)
+        .filter_map(|(p, c)| c.then_some(*p))
+        .collect()
+}
+
+/// A sphere around `positions` (all finite): its box's centre and the
+/// largest distance from it.
+fn local_sphere(positions: &[DVec3]) -> (DVec3, f64) {
+    let (lo, hi) = positions
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(*p), hi.max(*p))
+        });
+    let c = 0.5 * (lo + hi);
+    let r = positions
+        .iter()
+        .map(|p| p.distance_squared(c))
+        .fold(0.0, f64::max)
+        .sqrt();
+    (c, r)
 }
 
 /// A generator's shape meshes prepared for rendering (checked and welded
@@ -77,6 +130,8 @@ impl RenderMeshes {
             let positions: Vec<DVec3> = mesh.positions.iter().map(|p| p.as_dvec3()).collect();
             let closure = back_faces::closure(&positions, &mesh.triangles);
             meshes.push(RenderMesh {
+                hull: hull_vertices(&positions),
+                around: local_sphere(&positions),
                 positions,
                 triangles: mesh.triangles,
                 closure,
@@ -159,22 +214,62 @@ impl RenderMeshes {
 
     /// The bounding sphere of `instances` (every vertex placed), or `None`
     /// if there is nothing finite to bound.
+    ///
+    /// The centre is fitted to the placed hull vertices of each mesh
+    /// ([`BoundingSphere::of`]'s construction on a few vertices a mesh
+    /// instead of all); the radius then holds every vertex, though only
+    /// instances that may reach beyond the hull vertices' sphere are placed
+    /// vertex by vertex.
     #[must_use]
     pub fn bounding_sphere(&self, instances: &[Instance]) -> Option<BoundingSphere> {
+        let placed = |inst: &Instance| {
+            let mesh = self.meshes.get(inst.shape as usize)?;
+            Some((mesh, crate::voxelize::to_f64(&inst.transform)))
+        };
         let mut points = Vec::new();
-        for inst in instances {
-            let Some(mesh) = self.meshes.get(inst.shape as usize) else {
-                continue;
-            };
-            let m = crate::voxelize::to_f64(&inst.transform);
+        for (mesh, m) in instances.iter().filter_map(placed) {
+            // The directions that picked the hull vertices are spread evenly
+            // in the mesh's frame; a stretched instance squeezes them
+            // together, so it gives every vertex instead.
+            let frobenius2 = m.matrix3.x_axis.length_squared()
+                + m.matrix3.y_axis.length_squared()
+                + m.matrix3.z_axis.length_squared();
+            let det = m.matrix3.determinant().abs();
+            let even = frobenius2 <= 3.0 * 1.1 * det.powf(2.0 / 3.0);
+            let vertices = if even { &mesh.hull } else { &mesh.positions };
             points.extend(
-                mesh.positions
+                vertices
                     .iter()
                     .map(|p| m.transform_point3(*p))
                     .filter(|p| p.is_finite()),
             );
         }
-        BoundingSphere::of(&points)
+        let center = BoundingSphere::fit_center(&points)?;
+        let mut r2 = points
+            .iter()
+            .map(|p| p.distance_squared(center))
+            .fold(0.0, f64::max);
+        for (mesh, m) in instances.iter().filter_map(placed) {
+            // The placed local sphere holds the instance: its centre moves
+            // with `m`, its radius grows by at most `m`'s largest singular
+            // value, which the Frobenius norm bounds.
+            let (c, r) = mesh.around;
+            let stretch = (m.matrix3.x_axis.length_squared()
+                + m.matrix3.y_axis.length_squared()
+                + m.matrix3.z_axis.length_squared())
+            .sqrt();
+            let reach = m.transform_point3(c).distance(center) + r * stretch;
+            if reach.is_finite() && reach * reach * (1.0 + 1e-9) <= r2 {
+                continue;
+            }
+            for p in &mesh.positions {
+                let p = m.transform_point3(*p);
+                if p.is_finite() {
+                    r2 = r2.max(p.distance_squared(center));
+                }
+            }
+        }
+        Some(BoundingSphere::with_radius(center, r2.sqrt()))
     }
 }
 
