@@ -38,9 +38,9 @@ use crate::genome::Chromosome;
 use crate::graph::Graph;
 use crate::ops::OpError;
 use crate::score::{
-    AttributeWeights, BestView, BoundingSphere, ModelFitness, RenderMeshes, Renderer, Scene,
-    ScoreError, ShapeMeshes, Style, ViewAttributes, ViewSampling, Viewpoint, best_view_around,
-    frame_tightly,
+    AttributeWeights, BestView, BoundingSphere, Camera, ModelFitness, RenderMeshes, Renderer,
+    Scene, ScoreError, ShapeMeshes, Style, ViewAttributes, ViewSampling, Viewpoint,
+    best_view_around, frame_tightly,
 };
 
 /// What a gallery needs of a generator: its graph, its shapes' meshes, and
@@ -217,8 +217,10 @@ pub struct GalleryModel {
     pub attributes: ViewAttributes,
     /// Its cluster.
     pub cluster: usize,
-    /// Its picture from the gallery's view (the centre model's three times larger).
-    pub thumbnail: image::RgbaImage,
+    /// Its picture from the gallery's view (the centre model's three times
+    /// larger): for the models the gallery shows, the centre and the
+    /// representatives; `None` for the others (not rendered).
+    pub thumbnail: Option<image::RgbaImage>,
     /// Instances it emits.
     pub instances: usize,
     /// Its position in the attributes' first two principal components.
@@ -375,36 +377,30 @@ impl Gallery {
         let fov = options.sampling.fov_y;
         let side = options.sampling.size;
         let done = std::sync::atomic::AtomicUsize::new(0);
-        let rendered: Vec<(ViewAttributes, image::RgbaImage)> = instances
+        // Every model's attributes from the view, and the camera its
+        // thumbnail would be taken with.
+        let seen: Vec<(ViewAttributes, Option<Camera>)> = instances
             .par_iter()
-            .enumerate()
-            .map_init(Renderer::new, |renderer, (i, (inst, sphere))| {
+            .map_init(Renderer::new, |renderer, (inst, sphere)| {
                 let out = match sphere {
-                    None => {
-                        let t = if i == 0 { 3 } else { 1 } * options.thumbnail;
-                        Ok((ViewAttributes::default(), empty_thumbnail(t)))
-                    }
+                    None => Ok((ViewAttributes::default(), None)),
                     Some(sphere) => (|| {
                         let camera = viewpoint.camera(sphere, fov, (side, side))?;
                         let g = renderer.render(&meshes, inst, &camera);
                         let attributes = ViewAttributes::of(g, &meshes, &fast);
-                        let t = if i == 0 { 3 } else { 1 } * options.thumbnail;
-                        let mut camera = if options.tight_thumbnails {
+                        let camera = if options.tight_thumbnails {
                             frame_tightly(&camera, g, 0.08)
                         } else {
                             camera
                         };
-                        camera.width = t;
-                        camera.height = t;
-                        let picture = renderer.picture(&meshes, inst, &camera, &options.style);
-                        Ok::<_, ScoreError>((attributes, picture))
+                        Ok::<_, ScoreError>((attributes, Some(camera)))
                     })(),
                 };
                 progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
                 out
             })
             .collect::<Result<_, _>>()?;
-        let points: Vec<[f64; 8]> = rendered.iter().map(|(a, _)| a.for_clustering()).collect();
+        let points: Vec<[f64; 8]> = seen.iter().map(|(a, _)| a.for_clustering()).collect();
         let w = options.clustering_weights.0;
         let clustering = cluster::kmeans_pp(&points, &w, options.clusters, 0, options.seed);
         let projection = cluster::pca_2d(&points, &w);
@@ -433,18 +429,42 @@ impl Gallery {
             .map(|(_, k)| k.representative)
             .collect();
         let around = cluster::radial_order(&reps, &projection, projection[0]);
+        // Thumbnails of what the picture and the page show: the centre
+        // (three times larger) and the representatives.
+        let shown: Vec<usize> = std::iter::once(0).chain(around.iter().copied()).collect();
+        let pictures: Vec<image::RgbaImage> = shown
+            .par_iter()
+            .map_init(Renderer::new, |renderer, &i| {
+                let t = if i == 0 { 3 } else { 1 } * options.thumbnail;
+                match seen[i].1 {
+                    None => empty_thumbnail(t),
+                    Some(mut camera) => {
+                        camera.width = t;
+                        camera.height = t;
+                        renderer.picture(&meshes, &instances[i].0, &camera, &options.style)
+                    }
+                }
+            })
+            .collect();
+        let mut thumbnails: Vec<Option<image::RgbaImage>> = vec![None; all.len()];
+        for (&i, picture) in shown.iter().zip(pictures) {
+            thumbnails[i] = Some(picture);
+        }
         let models = all
             .into_iter()
-            .zip(rendered)
+            .zip(seen)
+            .zip(thumbnails)
             .enumerate()
-            .map(|(i, (chromosome, (attributes, thumbnail)))| GalleryModel {
-                chromosome,
-                attributes,
-                cluster: clustering.assignment[i],
-                thumbnail,
-                instances: instances[i].0.len(),
-                projection: projection[i],
-            })
+            .map(
+                |(i, ((chromosome, (attributes, _)), thumbnail))| GalleryModel {
+                    chromosome,
+                    attributes,
+                    cluster: clustering.assignment[i],
+                    thumbnail,
+                    instances: instances[i].0.len(),
+                    projection: projection[i],
+                },
+            )
             .collect();
         Ok(Self {
             centre: label,

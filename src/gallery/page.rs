@@ -53,7 +53,9 @@ impl Gallery {
     /// clockwise from the top in [`around`](Self::around) order.
     #[must_use]
     pub fn picture(&self) -> image::RgbaImage {
-        let centre = &self.models[0].thumbnail;
+        let blank = image::RgbaImage::new(0, 0);
+        let thumbnail = |m: usize| self.models[m].thumbnail.as_ref().unwrap_or(&blank);
+        let centre = thumbnail(0);
         let t = f64::from(centre.width()) / 3.0;
         let k = self.around.len() as f64;
         let r = (2.9 * t).max(k * 1.2 * t / std::f64::consts::TAU);
@@ -65,7 +67,7 @@ impl Gallery {
             let a = std::f64::consts::TAU * j as f64 / k;
             paste(
                 &mut canvas,
-                &self.models[m].thumbnail,
+                thumbnail(m),
                 mid + r * a.sin(),
                 mid - r * a.cos(),
             );
@@ -221,13 +223,15 @@ impl Gallery {
             } else {
                 format!("representative {n}")
             };
+            let blank = image::RgbaImage::new(0, 0);
+            let thumbnail = model.thumbnail.as_ref().unwrap_or(&blank);
             let _ = write!(
                 h,
                 "<div class=\"card{cls}\"><img src=\"{img}\" width=\"{w}\" alt=\"{label}\">\
                  <b>{label}</b><br>cluster of {size}, {genes} genes, {inst} instances<br>",
                 cls = if n == 0 { " centre" } else { "" },
-                img = data_url(&model.thumbnail)?,
-                w = 160.min(model.thumbnail.width()),
+                img = data_url(thumbnail)?,
+                w = 160.min(thumbnail.width()),
                 genes = model.chromosome.len(),
                 inst = model.instances,
             );
