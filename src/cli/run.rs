@@ -183,6 +183,10 @@ pub(super) fn run(cli: &Cli, args: &RunArgs) -> Result<(), CliError> {
     }
     // A second Ctrl-C waits until the result files are complete.
     // The pictures render on the run's threads.
+    eprintln!(
+        "shapegen: writing the model, pictures and curve to {}",
+        args.out.display()
+    );
     let written = guard::writing(|| {
         pool.install(|| output::write_run(&experiment, &result, &curve, &summary, &args.out))
     })?;
