@@ -17,6 +17,13 @@ pub struct BoundingSphere {
     pub radius: f64,
 }
 
+/// The largest squared distance of `points` from `center` (0 for none).
+pub(super) fn farthest_squared(points: impl Iterator<Item = DVec3>, center: DVec3) -> f64 {
+    points
+        .map(|p| p.distance_squared(center))
+        .fold(0.0, f64::max)
+}
+
 impl BoundingSphere {
     /// A small sphere around `points` (all finite): Ritter's construction,
     /// then passes that move the centre toward the farthest point while
@@ -25,10 +32,7 @@ impl BoundingSphere {
     #[must_use]
     pub fn of(points: &[DVec3]) -> Option<Self> {
         let center = Self::fit_center(points)?;
-        let r2 = points
-            .iter()
-            .map(|p| p.distance_squared(center))
-            .fold(0.0, f64::max);
+        let r2 = farthest_squared(points.iter().copied(), center);
         Some(Self::with_radius(center, r2.sqrt()))
     }
 

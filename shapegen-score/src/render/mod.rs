@@ -33,6 +33,7 @@ mod shade;
 use glam::{DVec2, DVec3};
 use shapegen_core::express::Instance;
 
+use fit::farthest_squared;
 pub use fit::{BoundingSphere, fit_camera, fit_orthographic, frame_tightly};
 pub use gbuffer::{Face, GBuffer};
 pub use shade::{Background, Light, Lights, Palette, Shading, Style};
@@ -98,12 +99,13 @@ fn local_sphere(positions: &[DVec3]) -> (DVec3, f64) {
             (lo.min(*p), hi.max(*p))
         });
     let c = 0.5 * (lo + hi);
-    let r = positions
-        .iter()
-        .map(|p| p.distance_squared(c))
-        .fold(0.0, f64::max)
-        .sqrt();
-    (c, r)
+    (c, farthest_squared(positions.iter().copied(), c).sqrt())
+}
+
+/// The sum of the squares of `m`'s entries: its squared Frobenius norm,
+/// which bounds the square of its largest singular value.
+fn frobenius_squared(m: &glam::DMat3) -> f64 {
+    m.x_axis.length_squared() + m.y_axis.length_squared() + m.z_axis.length_squared()
 }
 
 /// A generator's shape meshes prepared for rendering (checked and welded
@@ -231,9 +233,7 @@ impl RenderMeshes {
             // The directions that picked the hull vertices are spread evenly
             // in the mesh's frame; a stretched instance squeezes them
             // together, so it gives every vertex instead.
-            let frobenius2 = m.matrix3.x_axis.length_squared()
-                + m.matrix3.y_axis.length_squared()
-                + m.matrix3.z_axis.length_squared();
+            let frobenius2 = frobenius_squared(&m.matrix3);
             let det = m.matrix3.determinant().abs();
             let even = frobenius2 <= 3.0 * 1.1 * det.powf(2.0 / 3.0);
             let vertices = if even { &mesh.hull } else { &mesh.positions };
@@ -245,19 +245,13 @@ impl RenderMeshes {
             );
         }
         let center = BoundingSphere::fit_center(&points)?;
-        let mut r2 = points
-            .iter()
-            .map(|p| p.distance_squared(center))
-            .fold(0.0, f64::max);
+        let mut r2 = farthest_squared(points.iter().copied(), center);
         for (mesh, m) in instances.iter().filter_map(placed) {
             // The placed local sphere holds the instance: its centre moves
             // with `m`, its radius grows by at most `m`'s largest singular
             // value, which the Frobenius norm bounds.
             let (c, r) = mesh.around;
-            let stretch = (m.matrix3.x_axis.length_squared()
-                + m.matrix3.y_axis.length_squared()
-                + m.matrix3.z_axis.length_squared())
-            .sqrt();
+            let stretch = frobenius_squared(&m.matrix3).sqrt();
             let reach = m.transform_point3(c).distance(center) + r * stretch;
             if reach.is_finite() && reach * reach * (1.0 + 1e-9) <= r2 {
                 continue;
