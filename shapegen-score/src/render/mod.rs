@@ -256,12 +256,8 @@ impl RenderMeshes {
             if reach.is_finite() && reach * reach * (1.0 + 1e-9) <= r2 {
                 continue;
             }
-            for p in &mesh.positions {
-                let p = m.transform_point3(*p);
-                if p.is_finite() {
-                    r2 = r2.max(p.distance_squared(center));
-                }
-            }
+            let placed = mesh.positions.iter().map(|p| m.transform_point3(*p));
+            r2 = r2.max(farthest_squared(placed.filter(|p| p.is_finite()), center));
         }
         Some(BoundingSphere::with_radius(center, r2.sqrt()))
     }
