@@ -362,13 +362,23 @@ impl RowLine {
     #[inline]
     #[must_use]
     pub fn cross(&self, y: f64) -> Option<f64> {
+        let (crossed, x) = self.crossing(y);
+        crossed.then_some(x)
+    }
+
+    /// [`cross`](Self::cross) without a branch: whether the row line
+    /// through `y` crosses the triangle, and where it meets its plane
+    /// (meaningless when it does not cross).
+    #[inline]
+    #[must_use]
+    pub fn crossing(&self, y: f64) -> (bool, f64) {
         let side = |k: usize| (self.edges[k][0] + self.edges[k][1] * y >= 0.0) != self.flips[k];
         // All three evaluated (no early exit): the outcome is unpredictable.
         let (s0, s1, s2) = (side(0), side(1), side(2));
-        if !((s0 == s1) & (s1 == s2) & self.crossed) {
-            return None;
-        }
-        Some(self.plane[0] + self.plane[1] * y)
+        (
+            (s0 == s1) & (s1 == s2) & self.crossed,
+            self.plane[0] + self.plane[1] * y,
+        )
     }
 }
 

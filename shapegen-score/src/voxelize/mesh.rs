@@ -73,26 +73,40 @@ impl RowKeys {
         if key & 1 == 1 { 1.0 } else { -1.0 }
     }
 
-    /// Appends the key of every crossing of `t` with a walkable row.
+    /// Writes every crossing of `t` with a walkable row to `hits` from
+    /// index `n` on, as its key without the cell and its x; returns the new
+    /// `n`. Candidate rows are written whether crossed or not and kept only
+    /// if crossed (no branch on an outcome a third of the time true), so
+    /// `hits` is grown to hold them all first.
     ///
     /// A triangle spanning more than [`SECTION_ROWS`] rows along y has,
     /// per row along z, its projection's cross-section give the candidate
     /// rows along y (one more on each side, against rounding); smaller ones
     /// test their whole box. [`RowTri::cross`] decides each candidate
     /// exactly, so the candidates only save work and never change a crossing.
-    pub(super) fn rasterize(&self, grid: &Grid, t: &RowTri, out: &mut Vec<u64>) {
+    pub(super) fn rasterize(
+        &self,
+        grid: &Grid,
+        t: &RowTri,
+        hits: &mut Vec<(u64, f64)>,
+        mut n: usize,
+    ) -> usize {
         if t.parallel() {
-            return;
+            return n;
         }
         let [y_lo, y_hi, z_lo, z_hi] = t.yz_bounds();
         // Rows beyond the box are never crossed (the reference looks at the
         // box's rows only, too).
         let ys = clamp(rows_between(grid, 1, y_lo, y_hi), &self.y);
         let zs = clamp(rows_between(grid, 2, z_lo, z_hi), &self.z);
-        if ys.is_empty() {
-            return;
+        if ys.is_empty() || zs.is_empty() {
+            return n;
         }
         let sign = u64::from(t.sign() > 0.0);
+        let most = ((ys.end - ys.start) * (zs.end - zs.start)) as usize;
+        if hits.len() < n + most {
+            hits.resize((n + most).max(2 * hits.len()), (0, 0.0));
+        }
         for z in zs {
             let cz = grid.center_along(2, z);
             let ys = if ys.end - ys.start <= SECTION_ROWS {
@@ -108,15 +122,23 @@ impl RowKeys {
             };
             let line = t.line(cz);
             for y in ys {
-                if let Some(x) = line.cross(self.ys.at(y)) {
-                    let cell = self
-                        .xs
-                        .first_at_or_after(grid, x)
-                        .clamp(self.x.start, self.x.end);
-                    out.push(self.row(y, z) | ((cell - self.x.start) as u64) << 1 | sign);
-                }
+                let (crossed, x) = line.crossing(self.ys.at(y));
+                hits[n] = (self.row(y, z) | sign, x);
+                n += usize::from(crossed);
             }
         }
+        n
+    }
+
+    /// The key of a crossing at `x` of the row and sign in `prefix` (see
+    /// [`rasterize`](Self::rasterize)).
+    #[inline]
+    pub(super) fn key(&self, grid: &Grid, (prefix, x): (u64, f64)) -> u64 {
+        let cell = self
+            .xs
+            .first_at_or_after(grid, x)
+            .clamp(self.x.start, self.x.end);
+        prefix | ((cell - self.x.start) as u64) << 1
     }
 }
 
@@ -137,13 +159,31 @@ fn rows_between(grid: &Grid, axis: usize, lo: f64, hi: f64) -> Range<i64> {
     // Fractional row index: integers at the centres. Clamped before the
     // conversion, so far or non-finite bounds cannot overflow.
     let at = |v: f64| ((v - min) / cell - 0.5).clamp(walk.start as f64 - 1.0, walk.end as f64);
-    let first = (at(lo) - 1e-6).ceil();
-    let last = (at(hi) + 1e-6).floor();
+    let (first, last) = (at(lo) - 1e-6, at(hi) + 1e-6);
     if first.is_nan() || last.is_nan() || first > last {
         return 0..0;
     }
-    let start = (first as i64).max(walk.start);
-    start..(last as i64 + 1).min(walk.end).max(start)
+    let (first, last) = (ceil_small(first), floor_small(last));
+    if first > last {
+        return 0..0;
+    }
+    let start = first.max(walk.start);
+    start..(last + 1).min(walk.end).max(start)
+}
+
+/// `v.ceil()` for a finite `v` of magnitude below 2⁵², by truncation:
+/// without SSE4.1 the float method is a library call.
+#[inline]
+fn ceil_small(v: f64) -> i64 {
+    let t = v as i64;
+    t + i64::from((t as f64) < v)
+}
+
+/// `v.floor()` for a finite `v` of magnitude below 2⁵² (see [`ceil_small`]).
+#[inline]
+fn floor_small(v: f64) -> i64 {
+    let t = v as i64;
+    t - i64::from((t as f64) > v)
 }
 
 impl Voxelizer {
@@ -165,10 +205,13 @@ impl Voxelizer {
     /// counted into their rows, then each row sorted (a whole sort when the
     /// box has far more rows than crossings).
     pub(super) fn cross_rows(&mut self, grid: &Grid, keys: &RowKeys) {
-        self.keys.clear();
+        let mut n = 0;
         for t in &self.tris {
-            keys.rasterize(grid, t, &mut self.keys);
+            n = keys.rasterize(grid, t, &mut self.hits, n);
         }
+        self.keys.clear();
+        self.keys
+            .extend(self.hits[..n].iter().map(|&hit| keys.key(grid, hit)));
         let rows = keys.rows();
         if rows > 4 * self.keys.len() + 4096 {
             self.keys.sort_unstable();
@@ -223,5 +266,55 @@ impl Voxelizer {
             }
         }
         self.row_keys = keys;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{DVec3, UVec3};
+    use proptest::prelude::*;
+
+    use super::*;
+
+    /// [`rows_between`] as first written, with the float `ceil` and `floor`.
+    fn rows_between_reference(grid: &Grid, axis: usize, lo: f64, hi: f64) -> Range<i64> {
+        let (min, cell) = (grid.min()[axis], grid.cell_size()[axis]);
+        let walk = grid.walkable(axis);
+        let at = |v: f64| ((v - min) / cell - 0.5).clamp(walk.start as f64 - 1.0, walk.end as f64);
+        let first = (at(lo) - 1e-6).ceil();
+        let last = (at(hi) + 1e-6).floor();
+        if first.is_nan() || last.is_nan() || first > last {
+            return 0..0;
+        }
+        let start = (first as i64).max(walk.start);
+        start..(last as i64 + 1).min(walk.end).max(start)
+    }
+
+    proptest! {
+        /// Equal to the float methods on integers, halves and any value.
+        #[test]
+        fn ceil_and_floor_by_truncation(
+            v in prop_oneof![-1e6..1e6f64, (-1000i32..1000).prop_map(|i| f64::from(i) / 2.0),
+                Just(0.0), Just(-0.0), Just(-1e-300), Just(1e-300)],
+        ) {
+            prop_assert_eq!(ceil_small(v), v.ceil() as i64);
+            prop_assert_eq!(floor_small(v), v.floor() as i64);
+        }
+
+        /// The same rows as with `ceil` and `floor`, for bounds near and
+        /// far, on and between centres, and not finite.
+        #[test]
+        fn rows_between_rounds_as_ceil_and_floor(
+            n in 1u32..40,
+            lo in prop_oneof![-200.0..200.0f64, (-80i32..80).prop_map(|i| f64::from(i) * 0.25),
+                Just(f64::NAN), Just(f64::INFINITY), Just(f64::NEG_INFINITY), Just(1e300)],
+            width in prop_oneof![0.0..50.0f64, Just(0.0), Just(f64::INFINITY)],
+        ) {
+            let grid = Grid::new(DVec3::splat(-3.0).as_vec3(), DVec3::splat(7.0).as_vec3(), UVec3::splat(n)).unwrap();
+            let hi = lo + width;
+            for axis in 0..3 {
+                prop_assert_eq!(rows_between(&grid, axis, lo, hi), rows_between_reference(&grid, axis, lo, hi));
+            }
+        }
     }
 }

@@ -63,8 +63,10 @@ pub struct Voxelizer {
     /// The placed mesh: vertices, then triangles (with any cone).
     world: Vec<DVec3>,
     tris: Vec<crate::solid::RowTri>,
-    /// Packed crossings (see `mesh::RowKeys`), sorted; room to sort them
-    /// by rows.
+    /// Crossings as found (key without the cell, and x; see
+    /// `mesh::RowKeys::rasterize`), then packed (see `mesh::RowKeys`) and
+    /// sorted; room to sort them by rows.
+    hits: Vec<(u64, f64)>,
     keys: Vec<u64>,
     sorted: Vec<u64>,
     row_ends: Vec<u32>,
