@@ -434,11 +434,7 @@ pub(crate) fn fill_triangle(camera: &Camera, tri: [DVec2; 3], f: &mut impl FnMut
             b.x + (yc - b.y) * s_bc
         };
         // As fill_convex: with a NaN crossing, nothing is emitted.
-        let (xl, xr) = if x_long < x_short {
-            (x_long, x_short)
-        } else {
-            (x_short, x_long)
-        };
+        let (xl, xr) = (x_long.min(x_short), x_long.max(x_short));
         emit_row(row, xl, xr, w, f);
         row += 1.0;
     }
