@@ -77,7 +77,7 @@ impl RowKeys {
     /// index `n` on, as its key without the cell and its x; returns the new
     /// `n`. Candidate rows are written whether crossed or not and kept only
     /// if crossed (no branch on an outcome a third of the time true), so
-    /// `hits` is grown to hold them all first.
+    /// `hits` is grown to hold a line's candidates first.
     ///
     /// A triangle spanning more than [`SECTION_ROWS`] rows along y has,
     /// per row along z, its projection's cross-section give the candidate
@@ -103,10 +103,6 @@ impl RowKeys {
             return n;
         }
         let sign = u64::from(t.sign() > 0.0);
-        let most = ((ys.end - ys.start) * (zs.end - zs.start)) as usize;
-        if hits.len() < n + most {
-            hits.resize((n + most).max(2 * hits.len()), (0, 0.0));
-        }
         for z in zs {
             let cz = grid.center_along(2, z);
             let ys = if ys.end - ys.start <= SECTION_ROWS {
@@ -121,6 +117,10 @@ impl RowKeys {
                 start..(r.end + 1).min(ys.end).max(start)
             };
             let line = t.line(cz);
+            let most = n + (ys.end - ys.start) as usize;
+            if hits.len() < most {
+                hits.resize(most.max(2 * hits.len()), (0, 0.0));
+            }
             for y in ys {
                 let (crossed, x) = line.crossing(self.ys.at(y));
                 hits[n] = (self.row(y, z) | sign, x);
