@@ -56,11 +56,9 @@ pub(crate) struct InstanceCache<T, M> {
     pub(crate) capacity_instances: usize,
 }
 
-/// One instance added before: its key (and the key's hash, to grow the
-/// table), where its items are, and its summary.
+/// One instance added before: its key, where its items are, and its summary.
 #[derive(Clone, Copy, Debug)]
 struct Record<M> {
-    hash: u64,
     key: InstanceKey,
     items: (u32, u32),
     summary: M,
@@ -108,9 +106,9 @@ impl<T, M: Copy> InstanceCache<T, M> {
         record: impl FnOnce(&mut C, &mut Vec<T>) -> M,
     ) {
         self.start_over_if_full();
-        let (key, hash) = self.key(shape, transform);
+        let key = InstanceKey::new(shape, transform);
         let records = &mut self.records;
-        match entry(&mut self.slots, records, key, hash) {
+        match entry(&mut self.slots, records, &self.hasher, key) {
             Entry::Occupied(hit) => {
                 let r = records[*hit.get() as usize];
                 replay(ctx, slice(&self.items, r.items), r.summary);
@@ -119,7 +117,6 @@ impl<T, M: Copy> InstanceCache<T, M> {
                 miss.insert(records.len() as u32);
                 let (items, summary) = recorded(&mut self.items, ctx, record);
                 records.push(Record {
-                    hash,
                     key,
                     items,
                     summary,
@@ -145,9 +142,9 @@ impl<T, M: Copy> InstanceCache<T, M> {
         M: Default,
     {
         self.start_over_if_full();
-        let (key, hash) = self.key(shape, transform);
+        let key = InstanceKey::new(shape, transform);
         let records = &mut self.records;
-        match entry(&mut self.slots, records, key, hash) {
+        match entry(&mut self.slots, records, &self.hasher, key) {
             Entry::Occupied(hit) => {
                 let r = &mut records[*hit.get() as usize];
                 if r.items == SEEN {
@@ -160,19 +157,12 @@ impl<T, M: Copy> InstanceCache<T, M> {
                 add(ctx);
                 miss.insert(records.len() as u32);
                 records.push(Record {
-                    hash,
                     key,
                     items: SEEN,
                     summary: M::default(),
                 });
             }
         }
-    }
-
-    /// The key of an instance and its hash.
-    fn key(&self, shape: ShapeId, transform: &Affine3A) -> (InstanceKey, u64) {
-        let key = InstanceKey::new(shape, transform);
-        (key, self.hasher.hash_one(key))
     }
 
     fn start_over_if_full(&mut self) {
@@ -182,18 +172,19 @@ impl<T, M: Copy> InstanceCache<T, M> {
     }
 }
 
-/// The slot of instance `key` (hashed to `hash`) in `slots`, whose entries
-/// index `records`.
+/// The slot of instance `key` in `slots`, whose entries index `records`
+/// (growing the table hashes their keys again: rare, and cheaper than
+/// keeping each hash).
 fn entry<'a, M>(
     slots: &'a mut HashTable<u32>,
     records: &[Record<M>],
+    hasher: &FixedState,
     key: InstanceKey,
-    hash: u64,
 ) -> Entry<'a, u32> {
     slots.entry(
-        hash,
+        hasher.hash_one(key),
         |&i| records[i as usize].key == key,
-        |&i| records[i as usize].hash,
+        |&i| hasher.hash_one(records[i as usize].key),
     )
 }
 

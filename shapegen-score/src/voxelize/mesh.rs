@@ -82,7 +82,7 @@ impl RowKeys {
     /// A triangle spanning more than [`SECTION_ROWS`] rows along y has,
     /// per row along z, its projection's cross-section give the candidate
     /// rows along y (one more on each side, against rounding); smaller ones
-    /// test their whole box. [`RowTri::cross`] decides each candidate
+    /// test their whole box. [`RowLine::crossing`](crate::solid::RowLine::crossing) decides each candidate
     /// exactly, so the candidates only save work and never change a crossing.
     pub(super) fn rasterize(
         &self,

@@ -63,10 +63,11 @@ pub struct Voxelizer {
     /// The placed mesh: vertices, then triangles (with any cone).
     world: Vec<DVec3>,
     tris: Vec<crate::solid::RowTri>,
-    /// Crossings as found (key without the cell, and x; see
-    /// `mesh::RowKeys::rasterize`), then packed (see `mesh::RowKeys`) and
-    /// sorted; room to sort them by rows.
+    /// Crossings as found: the key without the cell, and x (see
+    /// `mesh::RowKeys::rasterize`).
     hits: Vec<(u64, f64)>,
+    /// The crossings packed (see `mesh::RowKeys`) and sorted; room to sort
+    /// them by rows.
     keys: Vec<u64>,
     sorted: Vec<u64>,
     row_ends: Vec<u32>,
