@@ -380,7 +380,7 @@ fn emit_row(row: f64, xl: f64, xr: f64, w: f64, f: &mut impl FnMut(PixelSpan)) {
 /// same side of it, and `ceil_small(v − 0.5)` is exact for it, where a
 /// coordinate beyond ±2³¹ (far off screen) would wrap around.
 #[inline(always)]
-fn within(v: f64, n: f64) -> f64 {
+pub(crate) fn within(v: f64, n: f64) -> f64 {
     let v = if v > -1.0 { v } else { -1.0 };
     if v < n + 1.0 { v } else { n + 1.0 }
 }
@@ -389,7 +389,7 @@ fn within(v: f64, n: f64) -> f64 {
 /// adding `1.5 · 2⁵²` rounds `y` to the nearest integer `n`, which the sum's
 /// low 32 bits hold in two's complement; one more if `n < y`.
 #[inline(always)]
-fn ceil_small(y: f64) -> i32 {
+pub(crate) fn ceil_small(y: f64) -> i32 {
     const MAGIC: f64 = 6_755_399_441_055_744.0;
     let r = y + MAGIC;
     let n = r.to_bits() as u32 as i32;

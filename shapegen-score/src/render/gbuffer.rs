@@ -5,7 +5,7 @@ use glam::{DVec3, Vec3};
 
 use super::Plane;
 use crate::camera::Camera;
-use crate::raster::PixelSpan;
+use crate::raster::{PixelSpan, ceil_small, within};
 
 /// No face: the background.
 const NONE: u32 = u32::MAX;
@@ -13,6 +13,9 @@ const NONE: u32 = u32::MAX;
 /// Side of the square tiles whose farthest depth key is kept for
 /// occlusion tests.
 const TILE: usize = 8;
+
+/// The largest box of pixels [`GBuffer::hidden_pixels`] tests one by one.
+const PIXEL_TEST_MAX: i32 = 256;
 
 /// Inclusive pixel box `(x0, y0, x1, y1)`, empty if `x0 > x1`.
 pub(crate) type PixelBox = (usize, usize, usize, usize);
@@ -178,6 +181,45 @@ impl GBuffer {
                 if self.tile_max[ty * self.tiles_wide + tx] > limit {
                     return false;
                 }
+            }
+        }
+        true
+    }
+
+    /// Whether every pixel whose centre lies in the box `[lo, hi]` (pixel
+    /// coordinates) already holds a key at most `k` (less the margin of
+    /// [`hidden`](Self::hidden)), tested pixel by pixel; `false` without
+    /// testing if the box holds more than [`PIXEL_TEST_MAX`] pixels.
+    ///
+    /// A triangle's crossings are within a few ulps of its vertices' box
+    /// (each is an interpolation between two vertices), so the box is
+    /// widened by `10⁻⁹·(1 + |coordinate|)`, far more than that.
+    pub(crate) fn hidden_pixels(&self, lo: glam::DVec2, hi: glam::DVec2, k: f64) -> bool {
+        let margin = |v: f64| 1e-9 * (1.0 + v.abs());
+        let (w, h) = (self.width as i32, self.height as i32);
+        // Pixel c's centre is c + 0.5: the first centre at or after x is
+        // ⌈x − 0.5⌉, the last at or before it ⌊x − 0.5⌋ = −⌈0.5 − x⌉
+        // (coordinates clamped to a pixel beyond the image, NaN to −1).
+        let first = |v: f64, n: i32| ceil_small(within(v - margin(v), f64::from(n)) - 0.5).max(0);
+        let last =
+            |v: f64, n: i32| (-ceil_small(0.5 - within(v + margin(v), f64::from(n)))).min(n - 1);
+        let (x0, x1) = (first(lo.x, w), last(hi.x, w));
+        let (y0, y1) = (first(lo.y, h), last(hi.y, h));
+        if !(x0 <= x1 && y0 <= y1) {
+            // No centre inside the image (or NaN): the caller's tile test
+            // has already said whether that is "nothing to draw".
+            return false;
+        }
+        if (x1 - x0 + 1) * (y1 - y0 + 1) > PIXEL_TEST_MAX {
+            return false;
+        }
+        let limit = k - 1e-6 * k.abs();
+        let (x0, x1) = (x0 as usize, x1 as usize);
+        let width = self.width as usize;
+        for y in y0 as usize..=y1 as usize {
+            let row = &self.depth[y * width + x0..=y * width + x1];
+            if row.iter().any(|&d| d > limit) {
+                return false;
             }
         }
         true
@@ -377,5 +419,78 @@ impl GBuffer {
         let (c, r) = ((i % w) as f64 + 0.5, (i / w) as f64 + 0.5);
         let (u, v) = ((c - cx) / sx, (r - cy) / sy);
         (1.0 + u * u + v * v).powf(-1.5)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec2;
+
+    /// An empty G-buffer of `size` pixels.
+    fn empty(size: (u32, u32)) -> GBuffer {
+        let camera = Camera::orthographic(
+            DVec3::new(0.0, 0.0, -5.0),
+            DVec3::Z,
+            DVec3::Y,
+            4.0,
+            0.1,
+            10.0,
+            size,
+        )
+        .unwrap();
+        let mut g = GBuffer::default();
+        g.reset(&camera, 1);
+        g
+    }
+
+    /// The box `[lo, hi]` of pixel coordinates.
+    fn b(x0: f64, y0: f64, x1: f64, y1: f64) -> (DVec2, DVec2) {
+        (DVec2::new(x0, y0), DVec2::new(x1, y1))
+    }
+
+    /// The pixel test looks at exactly the pixels whose centres lie in the
+    /// box (a centre on the box's edge included), with the margin of the
+    /// tile test on the key.
+    #[test]
+    fn hidden_pixels_tests_the_centres_in_the_box() {
+        let mut g = empty((10, 8));
+        // Pixels x 2..=4, y 1..=2 hold key 1; the rest is background.
+        for y in 1..=2 {
+            for x in 2..=4 {
+                g.depth[y * 10 + x] = 1.0;
+            }
+        }
+        // Centres 2.5..=4.5 and 1.5..=2.5, touched exactly at both ends.
+        let (lo, hi) = b(2.5, 1.5, 4.5, 2.5);
+        assert!(g.hidden_pixels(lo, hi, 2.0));
+        // A key equal to what the pixels hold, or nearer, is not hidden.
+        assert!(!g.hidden_pixels(lo, hi, 1.0));
+        assert!(!g.hidden_pixels(lo, hi, 0.5));
+        // A box reaching the next centre (5.5) takes in a background pixel.
+        let (lo, hi) = b(2.5, 1.5, 5.5, 2.5);
+        assert!(!g.hidden_pixels(lo, hi, 2.0));
+        let (lo, hi) = b(2.5, 0.5, 4.5, 2.5);
+        assert!(!g.hidden_pixels(lo, hi, 2.0));
+        // A box short of the next centres does not.
+        let (lo, hi) = b(1.6, 0.6, 5.4, 3.4);
+        assert!(g.hidden_pixels(lo, hi, 2.0));
+        // Off the image, or NaN: not decided here (the tile test does).
+        let (lo, hi) = b(20.0, 1.0, 30.0, 2.0);
+        assert!(!g.hidden_pixels(lo, hi, 2.0));
+        let (lo, hi) = b(f64::NAN, 1.0, 3.0, 2.0);
+        assert!(!g.hidden_pixels(lo, hi, 2.0));
+    }
+
+    /// Boxes of more than `PIXEL_TEST_MAX` pixels are not tested; a box
+    /// reaching beyond the image is tested on its pixels inside.
+    #[test]
+    fn hidden_pixels_gives_up_on_large_boxes() {
+        let mut g = empty((20, 20));
+        g.depth.fill(1.0);
+        let (lo, hi) = b(-5.0, -5.0, 25.0, 7.4); // 20 × 8 = 160 pixels inside
+        assert!(g.hidden_pixels(lo, hi, 2.0));
+        let (lo, hi) = b(0.0, 0.0, 20.0, 20.0); // 400 pixels
+        assert!(!g.hidden_pixels(lo, hi, 2.0));
     }
 }

@@ -525,6 +525,13 @@ impl Renderer {
             if self.gbuffer.hidden(pbox, key) {
                 return;
             }
+            // The tiles hold the farthest key of 8 × 8 pixels, so in
+            // foliage (gaps among leaves) they rarely hide anything; a small
+            // triangle is then tested on the pixels it may cover.
+            let (lo, hi) = (pa.min(pb).min(pc), pa.max(pb).max(pc));
+            if self.gbuffer.hidden_pixels(lo, hi, key) {
+                return;
+            }
         }
         // The face and its depth plane are made on its first span (many
         // triangles cover no pixel centre); its pixels are counted here and
