@@ -14,8 +14,9 @@ const NONE: u32 = u32::MAX;
 /// occlusion tests.
 const TILE: usize = 8;
 
-/// The largest box of pixels [`GBuffer::hidden_pixels`] tests one by one.
-const PIXEL_TEST_MAX: i32 = 256;
+/// The most pixels a triangle's occlusion test looks at one by one
+/// ([`GBuffer::hidden_pixels`]); larger ones are tested on tiles.
+pub(crate) const PIXEL_TEST_MAX: usize = 256;
 
 /// Inclusive pixel box `(x0, y0, x1, y1)`, empty if `x0 > x1`.
 pub(crate) type PixelBox = (usize, usize, usize, usize);
@@ -186,43 +187,44 @@ impl GBuffer {
         true
     }
 
-    /// Whether every pixel whose centre lies in the box `[lo, hi]` (pixel
-    /// coordinates) already holds a key at most `k` (less the margin of
-    /// [`hidden`](Self::hidden)), tested pixel by pixel; `false` without
-    /// testing if the box holds more than [`PIXEL_TEST_MAX`] pixels.
+    /// The pixels of the image whose centres lie in the box `[lo, hi]`
+    /// (pixel coordinates) widened for rounding, or `None` if there are
+    /// none (or a coordinate is not finite): a triangle whose vertices
+    /// project into the box can cover no other pixel.
     ///
-    /// A triangle's crossings are within a few ulps of its vertices' box
-    /// (each is an interpolation between two vertices), so the box is
-    /// widened by `10⁻⁹·(1 + |coordinate|)`, far more than that.
-    pub(crate) fn hidden_pixels(&self, lo: glam::DVec2, hi: glam::DVec2, k: f64) -> bool {
-        let margin = |v: f64| 1e-9 * (1.0 + v.abs());
+    /// Each of a triangle's crossings is an interpolation between two of
+    /// its vertices, within a few ulps of their largest coordinate of the
+    /// box; the box is widened by `10⁻⁹·(1 + that coordinate)`, far more.
+    pub(crate) fn centres_in(&self, lo: glam::DVec2, hi: glam::DVec2) -> Option<PixelBox> {
+        if !(lo.is_finite() && hi.is_finite()) {
+            return None; // `fill_triangle` draws nothing either
+        }
+        let margin = |a: f64, b: f64| 1e-9 * (1.0 + a.abs().max(b.abs()));
+        let (mx, my) = (margin(lo.x, hi.x), margin(lo.y, hi.y));
         let (w, h) = (self.width as i32, self.height as i32);
-        // Pixel c's centre is c + 0.5: the first centre at or after x is
-        // ⌈x − 0.5⌉, the last at or before it ⌊x − 0.5⌋ = −⌈0.5 − x⌉
+        // Pixel c's centre is c + 0.5: the first centre at or after v is
+        // ⌈v − 0.5⌉, the last at or before it ⌊v − 0.5⌋ = −⌈0.5 − v⌉
         // (coordinates clamped to a pixel beyond the image, NaN to −1).
-        let first = |v: f64, n: i32| ceil_small(within(v - margin(v), f64::from(n)) - 0.5).max(0);
-        let last =
-            |v: f64, n: i32| (-ceil_small(0.5 - within(v + margin(v), f64::from(n)))).min(n - 1);
-        let (x0, x1) = (first(lo.x, w), last(hi.x, w));
-        let (y0, y1) = (first(lo.y, h), last(hi.y, h));
-        if !(x0 <= x1 && y0 <= y1) {
-            // No centre inside the image (or NaN): the caller's tile test
-            // has already said whether that is "nothing to draw".
-            return false;
-        }
-        if (x1 - x0 + 1) * (y1 - y0 + 1) > PIXEL_TEST_MAX {
-            return false;
-        }
+        let first = |v: f64, n: i32| ceil_small(within(v, f64::from(n)) - 0.5).max(0);
+        let last = |v: f64, n: i32| (-ceil_small(0.5 - within(v, f64::from(n)))).min(n - 1);
+        let (x0, x1) = (first(lo.x - mx, w), last(hi.x + mx, w));
+        let (y0, y1) = (first(lo.y - my, h), last(hi.y + my, h));
+        (x0 <= x1 && y0 <= y1).then_some((x0 as usize, y0 as usize, x1 as usize, y1 as usize))
+    }
+
+    /// Whether every pixel of `b` already holds a key at most `k` (less
+    /// the margin of [`hidden`](Self::hidden)), tested pixel by pixel: for
+    /// small boxes, where the tiles (in foliage, with gaps among the
+    /// leaves) rarely hide anything.
+    pub(crate) fn hidden_pixels(&self, b: PixelBox, k: f64) -> bool {
+        let (x0, y0, x1, y1) = b;
         let limit = k - 1e-6 * k.abs();
-        let (x0, x1) = (x0 as usize, x1 as usize);
         let width = self.width as usize;
-        for y in y0 as usize..=y1 as usize {
-            let row = &self.depth[y * width + x0..=y * width + x1];
-            if row.iter().any(|&d| d > limit) {
-                return false;
-            }
-        }
-        true
+        (y0..=y1).all(|y| {
+            self.depth[y * width + x0..=y * width + x1]
+                .iter()
+                .all(|&d| d <= limit)
+        })
     }
 
     /// Recomputes the farthest key of the tiles overlapping `b`.
@@ -449,11 +451,34 @@ mod tests {
         (DVec2::new(x0, y0), DVec2::new(x1, y1))
     }
 
-    /// The pixel test looks at exactly the pixels whose centres lie in the
-    /// box (a centre on the box's edge included), with the margin of the
-    /// tile test on the key.
+    /// The pixels whose centres lie in a box: a centre on its edge
+    /// included, clamped to the image, none off the image or for NaN.
     #[test]
-    fn hidden_pixels_tests_the_centres_in_the_box() {
+    fn centres_in_follows_the_centre_rule() {
+        let g = empty((10, 8));
+        let centres = |x0, y0, x1, y1| {
+            let (lo, hi) = b(x0, y0, x1, y1);
+            g.centres_in(lo, hi)
+        };
+        assert_eq!(centres(2.5, 1.5, 4.5, 2.5), Some((2, 1, 4, 2)));
+        assert_eq!(centres(1.6, 0.6, 5.4, 3.4), Some((2, 1, 4, 2)));
+        assert_eq!(centres(-5.0, -2.0, 1e12, 0.5), Some((0, 0, 9, 0)));
+        // Within a pixel, between centres: none.
+        assert_eq!(centres(2.6, 1.6, 3.4, 5.0), None);
+        assert_eq!(centres(20.0, 1.0, 30.0, 2.0), None);
+        assert_eq!(centres(f64::NAN, 1.0, 3.0, 2.0), None);
+        assert_eq!(centres(1.0, 1.0, f64::INFINITY, 2.0), None);
+        // Widened for rounding: a centre a rounding error outside counts.
+        assert_eq!(
+            centres(2.5 + 1e-12, 1.5, 4.5 - 1e-12, 1.5),
+            Some((2, 1, 4, 1))
+        );
+    }
+
+    /// The pixel test looks at each pixel of the box, with the margin of
+    /// the tile test on the key.
+    #[test]
+    fn hidden_pixels_tests_every_pixel_of_the_box() {
         let mut g = empty((10, 8));
         // Pixels x 2..=4, y 1..=2 hold key 1; the rest is background.
         for y in 1..=2 {
@@ -461,36 +486,13 @@ mod tests {
                 g.depth[y * 10 + x] = 1.0;
             }
         }
-        // Centres 2.5..=4.5 and 1.5..=2.5, touched exactly at both ends.
-        let (lo, hi) = b(2.5, 1.5, 4.5, 2.5);
-        assert!(g.hidden_pixels(lo, hi, 2.0));
+        assert!(g.hidden_pixels((2, 1, 4, 2), 2.0));
         // A key equal to what the pixels hold, or nearer, is not hidden.
-        assert!(!g.hidden_pixels(lo, hi, 1.0));
-        assert!(!g.hidden_pixels(lo, hi, 0.5));
-        // A box reaching the next centre (5.5) takes in a background pixel.
-        let (lo, hi) = b(2.5, 1.5, 5.5, 2.5);
-        assert!(!g.hidden_pixels(lo, hi, 2.0));
-        let (lo, hi) = b(2.5, 0.5, 4.5, 2.5);
-        assert!(!g.hidden_pixels(lo, hi, 2.0));
-        // A box short of the next centres does not.
-        let (lo, hi) = b(1.6, 0.6, 5.4, 3.4);
-        assert!(g.hidden_pixels(lo, hi, 2.0));
-        // Off the image, or NaN: not decided here (the tile test does).
-        let (lo, hi) = b(20.0, 1.0, 30.0, 2.0);
-        assert!(!g.hidden_pixels(lo, hi, 2.0));
-        let (lo, hi) = b(f64::NAN, 1.0, 3.0, 2.0);
-        assert!(!g.hidden_pixels(lo, hi, 2.0));
-    }
-
-    /// Boxes of more than `PIXEL_TEST_MAX` pixels are not tested; a box
-    /// reaching beyond the image is tested on its pixels inside.
-    #[test]
-    fn hidden_pixels_gives_up_on_large_boxes() {
-        let mut g = empty((20, 20));
-        g.depth.fill(1.0);
-        let (lo, hi) = b(-5.0, -5.0, 25.0, 7.4); // 20 × 8 = 160 pixels inside
-        assert!(g.hidden_pixels(lo, hi, 2.0));
-        let (lo, hi) = b(0.0, 0.0, 20.0, 20.0); // 400 pixels
-        assert!(!g.hidden_pixels(lo, hi, 2.0));
+        assert!(!g.hidden_pixels((2, 1, 4, 2), 1.0));
+        assert!(!g.hidden_pixels((2, 1, 4, 2), 0.5));
+        // One background pixel in the box is enough.
+        assert!(!g.hidden_pixels((2, 1, 5, 2), 2.0));
+        assert!(!g.hidden_pixels((2, 0, 4, 2), 2.0));
+        assert!(!g.hidden_pixels((1, 2, 2, 3), 2.0));
     }
 }

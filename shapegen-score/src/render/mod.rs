@@ -514,22 +514,28 @@ impl Renderer {
         let in_range = |v: &DVec3| v.z >= near && v.z <= far;
         let [a, b, c] = t.map(|i| self.view[i as usize]);
         if ctx.bounds.is_some() {
-            // The instance's test per triangle, against the tiles as they
-            // were before this instance (farthest keys only shrink as faces
-            // are drawn, so older tiles are conservative).
+            // The instance is wholly in the depth range, so the triangle
+            // covers only pixels whose centres its vertices' box holds
+            // (none: nothing to draw), with keys at least its nearest
+            // vertex's. It is hidden if all those pixels already hold
+            // nearer keys: tested on the tiles as they were before this
+            // instance (farthest keys only shrink as faces are drawn, so
+            // older tiles are conservative), then, for a small triangle,
+            // pixel by pixel (in foliage, with gaps among the leaves, the
+            // tiles rarely hide anything).
             let [pa, pb, pc] = t.map(|i| self.pixels[i as usize]);
-            let pbox = self
+            let Some(centres) = self
                 .gbuffer
-                .pixel_box(pa.min(pb).min(pc), pa.max(pb).max(pc));
-            let key = key_of(a.z.min(b.z).min(c.z), perspective);
-            if self.gbuffer.hidden(pbox, key) {
+                .centres_in(pa.min(pb).min(pc), pa.max(pb).max(pc))
+            else {
                 return;
-            }
-            // The tiles hold the farthest key of 8 × 8 pixels, so in
-            // foliage (gaps among leaves) they rarely hide anything; a small
-            // triangle is then tested on the pixels it may cover.
-            let (lo, hi) = (pa.min(pb).min(pc), pa.max(pb).max(pc));
-            if self.gbuffer.hidden_pixels(lo, hi, key) {
+            };
+            let key = key_of(a.z.min(b.z).min(c.z), perspective);
+            let (x0, y0, x1, y1) = centres;
+            let small = (x1 - x0 + 1) * (y1 - y0 + 1) <= gbuffer::PIXEL_TEST_MAX;
+            if self.gbuffer.hidden(centres, key)
+                || (small && self.gbuffer.hidden_pixels(centres, key))
+            {
                 return;
             }
         }
