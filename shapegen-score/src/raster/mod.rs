@@ -472,7 +472,7 @@ pub fn reference_coverage(camera: &Camera, instances: &[(&RasterShape, Affine3A)
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// A tiny deterministic generator for test inputs.
@@ -489,10 +489,8 @@ mod tests {
         }
     }
 
-    /// `fill_triangle` gives exactly `fill_convex`'s spans, on random
-    /// triangles including flat, collinear, repeated and off-image ones.
     /// An orthographic camera 4 units high looking along +z, of `size` pixels.
-    fn orthographic(size: (u32, u32)) -> Camera {
+    pub(crate) fn orthographic(size: (u32, u32)) -> Camera {
         Camera::orthographic(
             DVec3::new(0.0, 0.0, -5.0),
             DVec3::Z,
@@ -637,6 +635,8 @@ mod tests {
         }
     }
 
+    /// `fill_triangle` gives exactly `fill_convex`'s spans, on random
+    /// triangles including flat, collinear, repeated and off-image ones.
     #[test]
     fn fill_triangle_equals_fill_convex() {
         let camera = orthographic((40, 30));

@@ -431,18 +431,8 @@ mod tests {
 
     /// An empty G-buffer of `size` pixels.
     fn empty(size: (u32, u32)) -> GBuffer {
-        let camera = Camera::orthographic(
-            DVec3::new(0.0, 0.0, -5.0),
-            DVec3::Z,
-            DVec3::Y,
-            4.0,
-            0.1,
-            10.0,
-            size,
-        )
-        .unwrap();
         let mut g = GBuffer::default();
-        g.reset(&camera, 1);
+        g.reset(&crate::raster::tests::orthographic(size), 1);
         g
     }
 
