@@ -15,8 +15,15 @@ const NONE: u32 = u32::MAX;
 const TILE: usize = 8;
 
 /// The most pixels a triangle's occlusion test looks at one by one
-/// ([`GBuffer::hidden_pixels`]); larger ones are tested on tiles.
-pub(crate) const PIXEL_TEST_MAX: usize = 256;
+/// ([`GBuffer::hidden_pixels`]); larger ones are tested on tiles only.
+const PIXEL_TEST_MAX: usize = 256;
+
+/// The farthest key a pixel may hold for a face whose keys are at least
+/// `k` to be hidden there: `k` less `10⁻⁶·|k|` for the rounding of
+/// interpolated keys.
+fn hiding_limit(k: f64) -> f64 {
+    k - 1e-6 * k.abs()
+}
 
 /// Inclusive pixel box `(x0, y0, x1, y1)`, empty if `x0 > x1`.
 pub(crate) type PixelBox = (usize, usize, usize, usize);
@@ -176,7 +183,7 @@ impl GBuffer {
         if !self.tiles_valid {
             return false;
         }
-        let limit = k - 1e-6 * k.abs();
+        let limit = hiding_limit(k);
         for ty in y0 / TILE..=y1 / TILE {
             for tx in x0 / TILE..=x1 / TILE {
                 if self.tile_max[ty * self.tiles_wide + tx] > limit {
@@ -212,13 +219,23 @@ impl GBuffer {
         (x0 <= x1 && y0 <= y1).then_some((x0 as usize, y0 as usize, x1 as usize, y1 as usize))
     }
 
-    /// Whether every pixel of `b` already holds a key at most `k` (less
-    /// the margin of [`hidden`](Self::hidden)), tested pixel by pixel: for
-    /// small boxes, where the tiles (in foliage, with gaps among the
-    /// leaves) rarely hide anything.
+    /// Whether a triangle that can cover only the pixels of `b` (see
+    /// [`centres_in`](Self::centres_in)), with keys of at least `k`, is
+    /// hidden: tested on the tiles, then, for a box of at most
+    /// [`PIXEL_TEST_MAX`] pixels, pixel by pixel (in foliage, with gaps
+    /// among the leaves, the tiles rarely hide anything).
+    pub(crate) fn hidden_triangle(&self, b: PixelBox, k: f64) -> bool {
+        let (x0, y0, x1, y1) = b;
+        let small = (x1 - x0 + 1) * (y1 - y0 + 1) <= PIXEL_TEST_MAX;
+        self.hidden(b, k) || (small && self.hidden_pixels(b, k))
+    }
+
+    /// Whether every pixel of the non-empty box `b` already holds a key at
+    /// most `k` (less the margin of [`hidden`](Self::hidden)), tested pixel
+    /// by pixel.
     pub(crate) fn hidden_pixels(&self, b: PixelBox, k: f64) -> bool {
         let (x0, y0, x1, y1) = b;
-        let limit = k - 1e-6 * k.abs();
+        let limit = hiding_limit(k);
         let width = self.width as usize;
         (y0..=y1).all(|y| {
             self.depth[y * width + x0..=y * width + x1]

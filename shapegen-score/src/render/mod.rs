@@ -518,11 +518,9 @@ impl Renderer {
             // covers only pixels whose centres its vertices' box holds
             // (none: nothing to draw), with keys at least its nearest
             // vertex's. It is hidden if all those pixels already hold
-            // nearer keys: tested on the tiles as they were before this
-            // instance (farthest keys only shrink as faces are drawn, so
-            // older tiles are conservative), then, for a small triangle,
-            // pixel by pixel (in foliage, with gaps among the leaves, the
-            // tiles rarely hide anything).
+            // nearer keys (the tiles are as they were before this instance:
+            // farthest keys only shrink as faces are drawn, so older tiles
+            // are conservative).
             let [pa, pb, pc] = t.map(|i| self.pixels[i as usize]);
             let Some(centres) = self
                 .gbuffer
@@ -531,11 +529,7 @@ impl Renderer {
                 return;
             };
             let key = key_of(a.z.min(b.z).min(c.z), perspective);
-            let (x0, y0, x1, y1) = centres;
-            let small = (x1 - x0 + 1) * (y1 - y0 + 1) <= gbuffer::PIXEL_TEST_MAX;
-            if self.gbuffer.hidden(centres, key)
-                || (small && self.gbuffer.hidden_pixels(centres, key))
-            {
+            if self.gbuffer.hidden_triangle(centres, key) {
                 return;
             }
         }
