@@ -243,7 +243,9 @@ impl Voxelizer {
     }
 
     /// The spans of a mesh solid by parity: each row's sorted crossings in
-    /// pairs; an odd last one opens no span.
+    /// pairs; an odd last one opens no span. A box at most [`MASK_CELLS`]
+    /// cells long along x keeps each row as bit masks instead of sorting
+    /// ([`mask_spans`](Self::mask_spans)); longer ones sort their keys.
     pub(super) fn mesh_spans(
         &mut self,
         grid: &Grid,
@@ -255,18 +257,98 @@ impl Voxelizer {
         self.place(m, to_world);
         let mut keys = std::mem::take(&mut self.row_keys);
         keys.fill(grid, r);
-        self.cross_rows(grid, &keys);
-        for row in self.keys.chunk_by(|a, b| a >> 32 == b >> 32) {
-            let (y, z) = keys.row_of(row[0]);
-            for pair in row.chunks_exact(2) {
-                let (x0, x1) = (keys.cell_of(pair[0]), keys.cell_of(pair[1]));
-                if x0 < x1 {
-                    f(Span { y, z, x0, x1 });
+        let cells = r.x_cells(grid);
+        if cells.end - cells.start <= MASK_CELLS {
+            self.mask_spans(grid, &keys, cells, f);
+        } else {
+            self.cross_rows(grid, &keys);
+            for row in self.keys.chunk_by(|a, b| a >> 32 == b >> 32) {
+                let (y, z) = keys.row_of(row[0]);
+                for pair in row.chunks_exact(2) {
+                    let (x0, x1) = (keys.cell_of(pair[0]), keys.cell_of(pair[1]));
+                    if x0 < x1 {
+                        f(Span { y, z, x0, x1 });
+                    }
                 }
             }
         }
         self.row_keys = keys;
     }
+
+    /// [`mesh_spans`](Self::mesh_spans) for a box whose rows hold at most
+    /// [`MASK_CELLS`] cells, `cells`: per row, a crossing toggles the bit
+    /// of its cell (bit `i` for cell `cells.start + i`, the end itself
+    /// included) and marks it reached. A cell is inside iff the crossings
+    /// at or before it are odd in number (the toggles' prefix parity) and it
+    /// lies before the row's last crossing: the pairs of sorted crossings
+    /// exactly, as the cells from the last one on are either even (no span)
+    /// or odd only by that unpaired crossing.
+    fn mask_spans(
+        &mut self,
+        grid: &Grid,
+        keys: &RowKeys,
+        cells: Range<i64>,
+        mut f: impl FnMut(Span),
+    ) {
+        let mut n = 0;
+        for t in &self.tris {
+            n = keys.rasterize(grid, t, &mut self.hits, n);
+        }
+        let masks = &mut self.masks;
+        masks.clear();
+        masks.resize(keys.rows(), [0, 0]);
+        for &(prefix, x) in &self.hits[..n] {
+            let cell = keys
+                .xs
+                .first_at_or_after(grid, x)
+                .clamp(cells.start, cells.end);
+            let bit = 1u64 << (cell - cells.start);
+            let [toggled, reached] = &mut masks[(prefix >> 32) as usize];
+            *toggled ^= bit;
+            *reached |= bit;
+        }
+        let mut masks = masks.iter();
+        for z in keys.z.clone() {
+            for y in keys.y.clone() {
+                let Some(&[toggled, reached]) = masks.next() else {
+                    return;
+                };
+                if reached == 0 {
+                    continue;
+                }
+                let last = 63 - reached.leading_zeros();
+                let mut inside = prefix_parity(toggled) & ((1u64 << last) - 1);
+                while inside != 0 {
+                    let a = inside.trailing_zeros();
+                    let run = (!(inside >> a)).trailing_zeros();
+                    let x0 = cells.start + i64::from(a);
+                    f(Span {
+                        y,
+                        z,
+                        x0,
+                        x1: x0 + i64::from(run),
+                    });
+                    inside &= !(((1u64 << run) - 1) << a);
+                }
+            }
+        }
+    }
+}
+
+/// Boxes whose rows hold at most this many cells along x keep each row's
+/// crossings as bit masks (bits `0..=MASK_CELLS`: the cells and the end).
+const MASK_CELLS: i64 = 63;
+
+/// Bit `i` of the result: the parity of bits `0..=i` of `v`.
+#[inline]
+fn prefix_parity(mut v: u64) -> u64 {
+    v ^= v << 1;
+    v ^= v << 2;
+    v ^= v << 4;
+    v ^= v << 8;
+    v ^= v << 16;
+    v ^= v << 32;
+    v
 }
 
 #[cfg(test)]

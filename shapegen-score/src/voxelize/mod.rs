@@ -71,6 +71,9 @@ pub struct Voxelizer {
     keys: Vec<u64>,
     sorted: Vec<u64>,
     row_ends: Vec<u32>,
+    /// Per row of a short box, the cells its crossings toggle and reach
+    /// (see `mesh::Voxelizer::mask_spans`).
+    masks: Vec<[u64; 2]>,
     /// The rows of the instance being voxelized (kept for their memory).
     row_keys: mesh::RowKeys,
     /// The placed winding cone and its clusters.
