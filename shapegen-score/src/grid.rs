@@ -219,7 +219,7 @@ impl Centres {
     /// [`Grid::first_at_or_after`] of `x`: found in the table when the
     /// answer lies strictly inside the range (a centre before it is below
     /// `x`), else asked of the grid.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn first_at_or_after(&self, grid: &Grid, x: f64) -> i64 {
         let c = &self.centres;
         let g = (x - grid.min[self.axis]) * grid.inv_cell[self.axis] - 0.5 - self.start as f64;
@@ -227,21 +227,15 @@ impl Centres {
         if !(g > 0.0 && g < c.len() as f64) {
             return grid.first_at_or_after(self.axis, x);
         }
-        let mut k = g as usize;
-        if (k as f64) < g {
-            k += 1;
+        // Rounded up: 1 <= k <= len.
+        let k = g as usize + usize::from(((g as usize) as f64) < g);
+        // The answer when c[k − 1] < x <= c[k]: almost always, as the guess
+        // is off by rounding alone; else (or at the table's end) the grid's
+        // exact search.
+        match (c.get(k - 1), c.get(k)) {
+            (Some(&before), Some(&at)) if before < x && x <= at => self.start + k as i64,
+            _ => grid.first_at_or_after(self.axis, x),
         }
-        while k > 0 && c[k - 1] >= x {
-            k -= 1;
-        }
-        while k < c.len() && c[k] < x {
-            k += 1;
-        }
-        // Now c[k − 1] < x <= c[k], if both exist.
-        if k == 0 || k == c.len() {
-            return grid.first_at_or_after(self.axis, x);
-        }
-        self.start + k as i64
     }
 }
 
