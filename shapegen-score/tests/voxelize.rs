@@ -222,8 +222,8 @@ proptest! {
     /// Meshes by parity, closed and open (a box without a face, a wavy
     /// sheet: rows with an odd number of crossings), on a coarse grid where
     /// every box is at most 63 cells long (rows kept as bit masks) and a
-    /// fine one where they are longer (rows sorted): both equal the per-row
-    /// parity reference.
+    /// fine one where most are longer (rows sorted; the smaller placements
+    /// still take the masks): both equal the per-row parity reference.
     #[test]
     fn mesh_spans_equal_the_reference_on_short_and_long_rows(
         t in placement(0.5..2.5, Vec3::splat(-1.0), Vec3::splat(1.0)),

@@ -201,14 +201,21 @@ impl Voxelizer {
         );
     }
 
-    /// Every placed triangle's crossings, as sorted keys in `self.keys`:
-    /// counted into their rows, then each row sorted (a whole sort when the
-    /// box has far more rows than crossings).
-    pub(super) fn cross_rows(&mut self, grid: &Grid, keys: &RowKeys) {
+    /// Every placed triangle's crossings with the rows of `keys`, written to
+    /// `self.hits` (see [`RowKeys::rasterize`]); returns how many.
+    fn cross_triangles(&mut self, grid: &Grid, keys: &RowKeys) -> usize {
         let mut n = 0;
         for t in &self.tris {
             n = keys.rasterize(grid, t, &mut self.hits, n);
         }
+        n
+    }
+
+    /// Every placed triangle's crossings, as sorted keys in `self.keys`:
+    /// counted into their rows, then each row sorted (a whole sort when the
+    /// box has far more rows than crossings).
+    pub(super) fn cross_rows(&mut self, grid: &Grid, keys: &RowKeys) {
+        let n = self.cross_triangles(grid, keys);
         self.keys.clear();
         self.keys
             .extend(self.hits[..n].iter().map(|&hit| keys.key(grid, hit)));
@@ -290,10 +297,7 @@ impl Voxelizer {
         cells: Range<i64>,
         mut f: impl FnMut(Span),
     ) {
-        let mut n = 0;
-        for t in &self.tris {
-            n = keys.rasterize(grid, t, &mut self.hits, n);
-        }
+        let n = self.cross_triangles(grid, keys);
         let masks = &mut self.masks;
         masks.clear();
         masks.resize(keys.rows(), [0, 0]);
