@@ -243,12 +243,18 @@ proptest! {
         let mut fast = Renderer::new();
         let mut all = Renderer::new().drawing_all_faces();
         let (g, h) = (fast.render(&prepared, &instances, &cam), all.render(&prepared, &instances, &cam));
-        prop_assert!(g.faces().len() <= h.faces().len());
+        // Not the number of faces drawn: drawing a back face first can let
+        // the occlusion test skip a front face behind it, so drawing every
+        // face may draw fewer (a concave star, seen in CI).
         for i in 0..g.len() {
             prop_assert_eq!(g.depth(i), h.depth(i), "pixel {}", i);
             prop_assert_eq!(g.terminal(i), h.terminal(i), "pixel {}", i);
         }
         prop_assert_eq!(g.terminal_pixels(), h.terminal_pixels());
+        // Faces may be summed in another order: equal up to rounding.
+        for (a, b) in g.visible_area().iter().zip(h.visible_area()) {
+            prop_assert!((a - b).abs() <= 1e-9 * (1.0 + b.abs()), "visible area {} != {}", a, b);
+        }
     }
 }
 
