@@ -194,6 +194,12 @@ pub struct MeshSolid {
     positions: Vec<DVec3>,
     /// Triangles indexing `positions`.
     triangles: Vec<[u32; 3]>,
+    /// The distinct edges `[i, j]` (`i < j`), and per triangle its three
+    /// edges `a → b`, `b → c`, `c → a` as `2 · edge + reversed` (reversed:
+    /// the triangle runs `j → i`): placing a mesh computes each edge's
+    /// function once for the two triangles that share it.
+    edges: Vec<[u32; 2]>,
+    triangle_edges: Vec<[u32; 3]>,
     bounds: (DVec3, DVec3),
     boundary_edges: usize,
     /// Present in [`Inside::WindingNumber`] mode.
@@ -279,10 +285,13 @@ impl MeshSolid {
         let positions: Vec<DVec3> = welded.positions.iter().map(|p| p.as_dvec3()).collect();
         // Welded already: the welding inside finds nothing more to merge.
         let boundary_edges = boundary_edges(&welded);
+        let (edges, triangle_edges) = edge_topology(&welded.triangles);
         Self {
             bounds: bounds(&positions),
             positions,
             triangles: welded.triangles,
+            edges,
+            triangle_edges,
             boundary_edges,
             winding: None,
         }
@@ -311,6 +320,19 @@ impl MeshSolid {
         self.triangles
             .iter()
             .map(|t| t.map(|i| self.positions[i as usize]))
+    }
+
+    /// The distinct edges `[i, j]` (`i < j`) of the triangles.
+    #[must_use]
+    pub fn edges(&self) -> &[[u32; 2]] {
+        &self.edges
+    }
+
+    /// Per triangle, its edges `a → b`, `b → c`, `c → a` as `2 · e + r`:
+    /// edge `e` of [`edges`](Self::edges), run backwards iff `r = 1`.
+    #[must_use]
+    pub fn triangle_edges(&self) -> &[[u32; 3]] {
+        &self.triangle_edges
     }
 
     /// Edges used by exactly one triangle after welding vertices by position:
@@ -382,20 +404,53 @@ impl RowLine {
     }
 }
 
+/// The edge function of the triangle edge `p → q` for [`RowTri`]: its
+/// coefficients `[c0, cz, cy]` on the canonical order of the endpoints
+/// (lexicographic in x, y, z), and whether that order runs against `p → q`.
+/// Without a branch: which endpoint comes first is a coin toss.
+#[inline]
+pub(crate) fn row_edge(p: DVec3, q: DVec3) -> ([f64; 3], bool) {
+    // `(p.x, p.y, p.z) < (q.x, q.y, q.z)`, each comparison evaluated.
+    let before = (p.x < q.x) | ((p.x == q.x) & ((p.y < q.y) | ((p.y == q.y) & (p.z < q.z))));
+    let (p, q) = (
+        DVec3::select(glam::BVec3::splat(before), p, q),
+        DVec3::select(glam::BVec3::splat(before), q, p),
+    );
+    ([p.y * q.z - p.z * q.y, q.y - p.y, p.z - q.z], !before)
+}
+
 impl RowTri {
+    /// Every field's bits, zeros of either sign as `+0`: for tests that two
+    /// ways of preparing a triangle agree exactly.
+    #[cfg(test)]
+    pub(crate) fn bits(&self) -> Vec<u64> {
+        let floats = self
+            .edges
+            .iter()
+            .flatten()
+            .chain(&self.plane)
+            .chain(&self.yz);
+        floats
+            .chain([&self.nx])
+            .map(|&v| (v + 0.0).to_bits())
+            .chain(self.flips.map(u64::from))
+            .collect()
+    }
+
     /// Prepares the world triangle `v`.
     #[must_use]
     pub fn new(v: [DVec3; 3]) -> Self {
-        let edge = |p: DVec3, q: DVec3| {
-            let (p, q, flip) = if (p.x, p.y, p.z) < (q.x, q.y, q.z) {
-                (p, q, false)
-            } else {
-                (q, p, true)
-            };
-            ([p.y * q.z - p.z * q.y, q.y - p.y, p.z - q.z], flip)
-        };
         let [a, b, c] = v;
-        let [(e0, f0), (e1, f1), (e2, f2)] = [edge(a, b), edge(b, c), edge(c, a)];
+        Self::with_edges(v, [row_edge(a, b), row_edge(b, c), row_edge(c, a)])
+    }
+
+    /// [`new`](Self::new) with the [`row_edge`]s of `a → b`, `b → c` and
+    /// `c → a` computed already (placing a mesh shares them between the two
+    /// triangles of each edge).
+    #[inline]
+    pub(crate) fn with_edges(v: [DVec3; 3], edges: [([f64; 3], bool); 3]) -> Self {
+        let [a, b, c] = v;
+        let [(e0, f0), (e1, f1), (e2, f2)] = edges;
         let n = (b - a).cross(c - a);
         Self {
             edges: [e0, e1, e2],
@@ -513,6 +568,28 @@ fn bounds(pts: &[DVec3]) -> (DVec3, DVec3) {
         .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
             (lo.min(*p), hi.max(*p))
         })
+}
+
+/// The distinct edges of `triangles` and each triangle's edges (see
+/// [`MeshSolid::triangle_edges`]).
+fn edge_topology(triangles: &[[u32; 3]]) -> (Vec<[u32; 2]>, Vec<[u32; 3]>) {
+    let mut index: HashMap<[u32; 2], u32> = HashMap::new();
+    let mut edges = Vec::new();
+    let triangle_edges = triangles
+        .iter()
+        .map(|t| {
+            [0, 1, 2].map(|k| {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                let key = [a.min(b), a.max(b)];
+                let e = *index.entry(key).or_insert_with(|| {
+                    edges.push(key);
+                    (edges.len() - 1) as u32
+                });
+                2 * e + u32::from(a > b)
+            })
+        })
+        .collect();
+    (edges, triangle_edges)
 }
 
 /// Edges with exactly one incident triangle, vertices welded by exact position.

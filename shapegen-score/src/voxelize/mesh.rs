@@ -10,7 +10,7 @@ use glam::DAffine3;
 
 use super::{Rows, Span, Voxelizer};
 use crate::grid::{Centres, Grid};
-use crate::solid::{MeshSolid, RowTri};
+use crate::solid::{MeshSolid, RowTri, row_edge};
 
 /// An instance's rows (its box's, within the walkable lattice) and how a
 /// crossing of one of them packs into a sortable `u64`: the row (z-major,
@@ -186,18 +186,46 @@ fn floor_small(v: f64) -> i64 {
     t - i64::from((t as f64) > v)
 }
 
+/// A mesh edge `i → j` placed in the world: its [`row_edge`] function, and
+/// whether the canonical order runs against `i → j` and against `j → i`.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct PlacedEdge {
+    coefficients: [f64; 3],
+    flips: [bool; 2],
+}
+
 impl Voxelizer {
-    /// Places the triangles of `m` in the world.
+    /// Places the triangles of `m` in the world: [`RowTri::new`] of each
+    /// placed triangle, with each edge's function computed once for the
+    /// two triangles that share it.
     pub(super) fn place(&mut self, m: &MeshSolid, to_world: &DAffine3) {
         self.world.clear();
         self.world
             .extend(m.positions().iter().map(|&p| to_world.transform_point3(p)));
-        self.tris.clear();
         let world = &self.world;
+        self.edges.clear();
+        self.edges.extend(m.edges().iter().map(|&[i, j]| {
+            let (p, q) = (world[i as usize], world[j as usize]);
+            let (coefficients, flip) = row_edge(p, q);
+            // `q → p` has the same canonical order, so the other flip,
+            // unless the endpoints compare equal (both flip then; the
+            // coefficients, all zero, differ at most in their signs).
+            PlacedEdge {
+                coefficients,
+                flips: [flip, !flip | (p == q)],
+            }
+        }));
+        let edges = &self.edges;
+        let edge = |k: u32| {
+            let e = &edges[(k >> 1) as usize];
+            (e.coefficients, e.flips[(k & 1) as usize])
+        };
+        self.tris.clear();
         self.tris.extend(
             m.triangle_indices()
                 .iter()
-                .map(|t| RowTri::new(t.map(|i| world[i as usize]))),
+                .zip(m.triangle_edges())
+                .map(|(t, e)| RowTri::with_edges(t.map(|i| world[i as usize]), e.map(edge))),
         );
     }
 
@@ -400,6 +428,37 @@ mod tests {
             let hi = lo + width;
             for axis in 0..3 {
                 prop_assert_eq!(rows_between(&grid, axis, lo, hi), rows_between_reference(&grid, axis, lo, hi));
+            }
+        }
+
+        /// Placing a mesh with each edge's function computed once for both
+        /// of its triangles prepares exactly [`RowTri::new`] of each placed
+        /// triangle (bit for bit, but for the sign of a zero), on vertices
+        /// drawn from a coarse lattice (shared coordinates, repeated and
+        /// coinciding vertices, degenerate triangles) and placements that
+        /// mirror.
+        #[test]
+        fn placing_shares_edges_exactly(
+            points in prop::collection::vec([-2i8..3, -2i8..3, -2i8..3], 3..12),
+            corners in prop::collection::vec([0usize..64, 0usize..64, 0usize..64], 1..24),
+            scale in prop_oneof![Just(1.0), 0.1..3.0f64, Just(-1.0), -3.0..-0.1f64],
+            angle in 0.0..std::f64::consts::TAU,
+            shift in prop_oneof![Just([0.0; 3]), prop::array::uniform3(-2.0..2.0f64)],
+        ) {
+            let positions = points.iter().map(|p| glam::Vec3::from(p.map(|c| f32::from(c) * 0.5))).collect::<Vec<_>>();
+            let triangles = corners.iter().map(|t| t.map(|i| (i % positions.len()) as u32)).collect();
+            let m = MeshSolid::new(&crate::Mesh { positions, triangles });
+            let to_world = DAffine3::from_scale_rotation_translation(
+                DVec3::new(scale, 1.0, 0.5),
+                glam::DQuat::from_axis_angle(DVec3::new(1.0, 2.0, 3.0).normalize(), angle),
+                DVec3::from(shift),
+            );
+            let mut v = Voxelizer::new();
+            v.place(&m, &to_world);
+            prop_assert_eq!(v.tris.len(), m.triangle_indices().len());
+            for (placed, t) in v.tris.iter().zip(m.triangles()) {
+                let reference = RowTri::new(t.map(|p| to_world.transform_point3(p)));
+                prop_assert_eq!(placed.bits(), reference.bits());
             }
         }
     }

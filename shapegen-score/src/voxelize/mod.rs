@@ -62,6 +62,8 @@ pub struct Voxelizer {
     rows_in: Vec<bool>,
     /// The placed mesh: vertices, then triangles (with any cone).
     world: Vec<DVec3>,
+    /// The placed mesh's edges (see `mesh::PlacedEdge`).
+    edges: Vec<mesh::PlacedEdge>,
     tris: Vec<crate::solid::RowTri>,
     /// Crossings as found: the key without the cell, and x (see
     /// `mesh::RowKeys::rasterize`).
