@@ -160,7 +160,7 @@ impl Work {
 
 /// Counts the in-grid run `(first cell, length)` of an instance, and keeps
 /// it to reset: the one step that voxelizing and replaying share, so both
-/// give the same counts.
+/// give the same counts. `cells` holds [`PAD`] bytes past the grid's.
 fn count_run(
     cells: &mut [u8],
     touched: &mut Vec<(u32, u32)>,
@@ -170,7 +170,81 @@ fn count_run(
 ) {
     let range = start as usize..(start + len) as usize;
     touched.push((start, len));
-    count_span(&mut cells[range.clone()], scene.weights_of(range), counts);
+    match scene.weights_of(range.clone()) {
+        None if range.len() <= WORD => count_word(cells, range, counts),
+        weight => count_span(&mut cells[range], weight, counts),
+    }
+}
+
+/// Runs at most this long are counted (and reset) as one 16-byte word.
+const WORD: usize = 16;
+
+/// Bytes the scratch holds past the grid's cells: a run's word may reach
+/// that far past its end (those bytes are read and written back unchanged).
+const PAD: usize = WORD;
+
+/// A byte `b` in each of the word's lanes.
+const fn lanes(b: u8) -> u128 {
+    u128::from_ne_bytes([b; WORD])
+}
+
+/// The lanes of the cells `0..len` of a word (little-endian), `1 <= len <= 16`.
+#[inline(always)]
+fn lanes_of(len: usize) -> u128 {
+    u128::MAX >> (8 * (WORD - len))
+}
+
+/// Bit 7 of each lane of `h` (lanes `< 0x80`) set iff that lane is zero:
+/// `h + 0x7f` carries into bit 7 exactly for the non-zero lanes, and never
+/// out of its lane.
+#[inline(always)]
+fn zero_lanes(h: u128) -> u128 {
+    !(h + lanes(0x7f)) & lanes(0x80)
+}
+
+/// [`count_span`] without weights for the cells `range`, at most [`WORD`]
+/// long, of `cells`, which reach at least [`WORD`] bytes past its start:
+/// the 16 bytes from its start as one little-endian word, every lane worked
+/// at once (as [`count_cell`]: the hit count in the low 7 bits) and the
+/// lanes beyond the run left as they were.
+#[inline]
+fn count_word(cells: &mut [u8], range: std::ops::Range<usize>, counts: &mut VolumeCounts) {
+    let len = range.len();
+    debug_assert!((1..=WORD).contains(&len));
+    let bytes: &mut [u8; WORD] = (&mut cells[range.start..range.start + WORD])
+        .try_into()
+        .expect("a word is 16 bytes");
+    let old = u128::from_le_bytes(*bytes);
+    let run = lanes_of(len);
+    let h = old & lanes(HITS);
+    let first = zero_lanes(h) & run;
+    let second = zero_lanes(h ^ lanes(1)) & run;
+    // 1 in each lane of the run below saturation: `h + 1 <= 0x7f` carries
+    // nothing into the target bit or the next lane.
+    let unsaturated = !zero_lanes(h ^ lanes(HITS)) & lanes(0x80);
+    *bytes = (old + ((unsaturated >> 7) & run)).to_le_bytes();
+    let (first_n, good_n) = (first.count_ones(), (first & old).count_ones());
+    counts.good += u64::from(good_n);
+    counts.bad += u64::from(first_n - good_n);
+    counts.overlap_cells += u64::from(second.count_ones());
+    counts.overlap_hits += len as u64 - u64::from(first_n);
+}
+
+/// Clears the hit counts of the run `(start, len)` of `cells` (see
+/// [`count_run`]), keeping the target flags.
+#[inline]
+fn reset_run(cells: &mut [u8], (start, len): (u32, u32)) {
+    let (start, len) = (start as usize, len as usize);
+    if (1..=WORD).contains(&len) {
+        let bytes: &mut [u8; WORD] = (&mut cells[start..start + WORD])
+            .try_into()
+            .expect("a word is 16 bytes");
+        *bytes = (u128::from_le_bytes(*bytes) & !(lanes(HITS) & lanes_of(len))).to_le_bytes();
+    } else {
+        for c in &mut cells[start..start + len] {
+            *c &= TARGET;
+        }
+    }
 }
 
 /// Per-thread working memory of volume evaluations: per cell its hit count
@@ -214,6 +288,7 @@ impl VolumeScratch {
                     .target
                     .iter()
                     .map(|&t| if t { TARGET } else { 0 })
+                    .chain([0; PAD])
                     .collect(),
                 touched: Vec::new(),
                 voxelizer: Voxelizer::new(),
@@ -226,15 +301,13 @@ impl VolumeScratch {
     /// The memory of one scratch over `grid` (bytes): one byte a cell.
     #[must_use]
     pub fn bytes_needed(grid: &Grid) -> u64 {
-        grid.len() as u64
+        grid.len() as u64 + PAD as u64
     }
 
     /// Starts counting a new model.
     pub fn begin(&mut self) {
-        for &(start, len) in &self.work.touched {
-            for c in &mut self.work.cells[start as usize..(start + len) as usize] {
-                *c &= TARGET;
-            }
+        for &run in &self.work.touched {
+            reset_run(&mut self.work.cells, run);
         }
         self.work.touched.clear();
         self.work.counts = VolumeCounts::default();
@@ -306,7 +379,8 @@ impl VolumeScratch {
     /// [`Grid::index`], for the model added since [`begin`](Self::begin).
     #[must_use]
     pub fn hits(&self) -> Vec<u8> {
-        self.work.cells.iter().map(|c| c & HITS).collect()
+        let grid = &self.work.cells[..self.work.cells.len() - PAD];
+        grid.iter().map(|c| c & HITS).collect()
     }
 
     /// How many instances hit cell `i` (linear index), saturating at 127.
@@ -389,6 +463,32 @@ mod tests {
     }
 
     proptest! {
+        /// A run of at most a word, counted and reset word-wise, equals the
+        /// reference, at any place of the cells and up to their padded
+        /// end; the bytes around it are left as they were.
+        #[test]
+        fn count_word_matches_the_reference(
+            cells in proptest::collection::vec(cell(), 1..40),
+            at in any::<proptest::sample::Index>(),
+            len in 1..=WORD,
+        ) {
+            let start = at.index(cells.len());
+            let len = len.min(cells.len() - start);
+            let mut padded = cells.clone();
+            padded.extend([0; PAD]);
+            let (mut fast, mut slow) = (padded.clone(), padded);
+            let (mut a, mut b) = (VolumeCounts::default(), VolumeCounts::default());
+            count_word(&mut fast, start..start + len, &mut a);
+            reference(&mut slow[start..start + len], None, &mut b);
+            prop_assert_eq!(&fast, &slow);
+            prop_assert_eq!(a, b);
+            reset_run(&mut fast, (start as u32, len as u32));
+            for (i, (c, orig)) in fast.iter().zip(cells.iter().chain(&[0; PAD])).enumerate() {
+                let want = if (start..start + len).contains(&i) { orig & TARGET } else { *orig };
+                prop_assert_eq!(*c, want, "cell {}", i);
+            }
+        }
+
         /// The chunked count equals the reference on spans across several
         /// chunks, with and without per-cell weights.
         #[test]
