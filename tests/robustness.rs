@@ -17,6 +17,7 @@ const LIMIT: Duration = Duration::from_secs(60);
 const SMALL: &str = r#"name = "small"
 generator = "spaceship"
 seed = 1
+method = "ga"
 [budget]
 generations = 3
 [score]
@@ -385,7 +386,7 @@ fn experiment_files_with_values_that_would_be_ignored_or_misread() {
         (
             "form-typo",
             SMALL.replace("\"normalized\"", "\"normalised\""),
-            &["e.toml:7:8", "score.form", "unknown variant"],
+            &["e.toml:8:8", "score.form", "unknown variant"],
         ),
         (
             "generator-typo",
@@ -509,22 +510,30 @@ fn target_meshes_that_cover_nothing_or_lose_faces() {
     // instance covers every cell, so one model takes a good part of a
     // second and generation 0 alone (20 models) would outlast a 1 s budget:
     // the run ends at the budget with the models evaluated by then.
-    let mut case = Case::new("huge-shape-slow-generation");
-    case.file("t.obj", box_obj([-50.0, -50.0, -50.0], [50.0, 50.0, 50.0]));
-    case.file(
-        "e.toml",
-        format!("{SMALL}[shapes.cube]\nmesh = \"t.obj\"\n")
-            .replace("[20, 40, 20]", "[200, 400, 200]"),
-    );
-    let out = case.succeeds(&["run", "e.toml", "--seconds", "1", "--out", "out"]);
-    let summary = json(&case.dir.join("out/summary.json"));
-    let evaluations = summary["evaluations"].as_u64().unwrap();
-    assert!(
-        (1..20).contains(&evaluations),
-        "{evaluations} evaluations: {}",
-        out.stderr
-    );
-    assert!(summary["seconds"].as_f64().unwrap() < 5.0, "{summary}");
+    // The same for the chains' first states (RJMCMC, 100 chains by default)
+    // and the tandem's (chains and GA).
+    for method in ["ga", "rjmcmc", "tandem"] {
+        let mut case = Case::new(&format!("huge-shape-slow-generation-{method}"));
+        case.file("t.obj", box_obj([-50.0, -50.0, -50.0], [50.0, 50.0, 50.0]));
+        case.file(
+            "e.toml",
+            format!("{SMALL}[shapes.cube]\nmesh = \"t.obj\"\n")
+                .replace("[20, 40, 20]", "[200, 400, 200]"),
+        );
+        let args = ["run", "e.toml", "--method", method, "--seconds", "1"];
+        let out = case.succeeds(&[&args[..], &["--out", "out"]].concat());
+        let summary = json(&case.dir.join("out/summary.json"));
+        let evaluations = summary["evaluations"].as_u64().unwrap();
+        assert!(
+            (1..20).contains(&evaluations),
+            "{method}: {evaluations} evaluations: {}",
+            out.stderr
+        );
+        assert!(
+            summary["seconds"].as_f64().unwrap() < 5.0,
+            "{method}: {summary}"
+        );
+    }
     // A grid far from where the generator builds, around its target.
     let mut case = Case::new("far-grid");
     case.file(

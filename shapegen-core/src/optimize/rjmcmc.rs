@@ -604,8 +604,11 @@ impl Method for Rjmcmc {
                 )?))
             })
             .collect::<Result<_, OptimizeError>>()?;
+        // Stopped by Ctrl-C or the clock like the GA's generation 0: chains
+        // slower to score than the budget end it with the models evaluated
+        // by then; the others start NaN and take their first valid proposal.
         Ok(Chains {
-            chains: cx.evaluate(init),
+            chains: cx.evaluate_within_budget(init),
             betas: self.params.ladder.betas(self.params.chains),
         })
     }
