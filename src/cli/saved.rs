@@ -11,7 +11,7 @@ use super::CliError;
 use crate::experiment::{Experiment, check_regular_file};
 use crate::genome::Chromosome;
 use crate::optimize::{Budget, Checkpoint, FNV1A_START, SavedIndividual, SavedState, fnv1a};
-use crate::output::{Row, write_json};
+use crate::output::{Row, write_json_compact};
 
 /// How many individuals of a checkpoint's population (best first: the
 /// elites) have their stored fitness recomputed on resume.
@@ -54,7 +54,7 @@ impl SavedRun {
     pub fn write(mut self, path: &Path) -> Result<(), CliError> {
         self.integrity = String::new();
         self.integrity = self.seal()?;
-        Ok(write_json(path, &self)?)
+        Ok(write_json_compact(path, &self)?)
     }
 
     /// Reads a checkpoint and checks it against `experiment`: its content

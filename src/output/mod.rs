@@ -233,6 +233,14 @@ pub fn write_json(path: &Path, value: &impl Serialize) -> Result<(), ExperimentE
     Ok(write_atomically(path, text.as_bytes())?)
 }
 
+/// Writes `value` as compact JSON, atomically: for files that programs read
+/// (checkpoints), where the pretty form of a large population, a number a
+/// line, is several times the size and the time.
+pub fn write_json_compact(path: &Path, value: &impl Serialize) -> Result<(), ExperimentError> {
+    let text = serde_json::to_string(value).map_err(|e| ExperimentError::write(path, e))?;
+    Ok(write_atomically(path, text.as_bytes())?)
+}
+
 /// Mean IoU over targets, for one-number displays.
 #[must_use]
 pub fn mean_iou(quality: &[Quality]) -> f64 {
