@@ -119,7 +119,11 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
         outputs.extend(run_files.iter().map(|n| args.out.join(m.name()).join(n)));
     }
     guard::refuse_overwriting_inputs(&outputs, experiment.inputs())?;
-    for w in experiment.warnings() {
+    let method_warnings = args
+        .methods
+        .iter()
+        .flat_map(|&m| experiment.method_warnings(m));
+    for w in experiment.warnings().iter().cloned().chain(method_warnings) {
         eprintln!("shapegen: warning: {w}");
     }
     let pool = thread_pool(args.threads)?;

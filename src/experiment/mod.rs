@@ -425,6 +425,25 @@ impl Experiment {
         &self.warnings
     }
 
+    /// [`warnings`](Self::warnings) that concern running `method`: a method
+    /// that regrows subtrees ([`MethodParams::regrows_subtrees`]) on limits
+    /// without a `max_len`.
+    #[must_use]
+    pub fn method_warnings(&self, method: Method) -> Vec<String> {
+        let mut w = Vec::new();
+        if self.graph().limits().max_len.is_none() && self.method(method).params.regrows_subtrees()
+        {
+            w.push(format!(
+                "no max_len in [limits] (nor in the generator): {method}'s jumps regrow subtrees from \
+                 the generator's own distribution, which can propose models of thousands of genes, \
+                 slow to score (RJMCMC on a spaceship experiment made 50 times fewer evaluations \
+                 without one than with max_len = 100); \
+                 set [limits] max_len to a few times the length you expect"
+            ));
+        }
+        w
+    }
+
     /// The generator graph, with the experiment's limits.
     #[must_use]
     pub fn graph(&self) -> &Graph {

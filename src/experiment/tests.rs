@@ -46,6 +46,29 @@ fn the_builtin_experiment_loads() {
 }
 
 #[test]
+fn methods_that_regrow_subtrees_are_warned_of_a_missing_max_len() {
+    // The spaceship declares no max_len of its own.
+    let e = load(MINIMAL).unwrap();
+    assert_eq!(e.graph().limits().max_len, None);
+    for m in [Method::Rjmcmc, Method::Hybrid, Method::Tandem] {
+        let w = e.method_warnings(m);
+        assert!(w.len() == 1 && w[0].contains("max_len"), "{m}: {w:?}");
+    }
+    // The paper's GA and SMC never regrow subtrees; a GA with local search does.
+    for m in [Method::Ga, Method::Islands, Method::Smc, Method::Sosmc] {
+        assert!(e.method_warnings(m).is_empty(), "{m}");
+    }
+    let ga = "[ga]\npopulation = 20\nelites = 4\ninit_length = 20\nmutation_rate = 0.3\nsplit = { grow = 1.0, cut = 1.0, alter = 1.0 }\nlocal_search = 4\n";
+    let local = load(&format!("{MINIMAL}{ga}")).unwrap();
+    assert_eq!(local.method_warnings(Method::Ga).len(), 1);
+    // A max_len silences it.
+    let limited = load(&format!("{MINIMAL}[limits]\nmax_len = 100\n")).unwrap();
+    for m in Method::ALL {
+        assert!(limited.method_warnings(m).is_empty(), "{m}");
+    }
+}
+
+#[test]
 fn a_minimal_file_gets_defaults() {
     let e = load(MINIMAL).unwrap();
     assert_eq!(e.name(), "t");

@@ -23,6 +23,22 @@ pub enum MethodParams {
     Tandem(TandemParams),
 }
 
+impl MethodParams {
+    /// Whether the method regrows whole subtrees from the generator's own
+    /// distribution (RJMCMC's jumps, in the chains or as the GA's local
+    /// search): without a `max_len`, a generator whose uncontrolled models
+    /// can be huge then proposes models of thousands of genes.
+    #[must_use]
+    pub fn regrows_subtrees(&self) -> bool {
+        match *self {
+            Self::Ga(p) => p.local_search > 0,
+            Self::Islands(p) => p.ga.local_search > 0,
+            Self::Smc(_) => false,
+            Self::Rjmcmc(_) | Self::Hybrid(_) | Self::Tandem(_) => true,
+        }
+    }
+}
+
 impl Optimizer for MethodParams {
     fn name(&self) -> &'static str {
         match *self {
