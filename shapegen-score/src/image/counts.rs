@@ -102,8 +102,8 @@ impl ImageScratch {
     /// added (the first, it is drawn as by `add`: most instances of a
     /// random population are never seen again). Only shapes with more than
     /// 16 vertices are remembered (boxes and the built-in leaf are drawn
-    /// faster than their writes are recorded; see
-    /// [`RasterShape::worth_replaying`]), and only for images less than
+    /// faster than their writes are recorded; the rule is
+    /// `RasterShape::worth_replaying`), and only for images less than
     /// 65,536 pixels wide and high.
     pub fn add_shape(
         &mut self,
