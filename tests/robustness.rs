@@ -520,8 +520,16 @@ fn target_meshes_that_cover_nothing_or_lose_faces() {
             format!("{SMALL}[shapes.cube]\nmesh = \"t.obj\"\n")
                 .replace("[20, 40, 20]", "[200, 400, 200]"),
         );
-        let args = ["run", "e.toml", "--method", method, "--seconds", "1"];
-        let out = case.succeeds(&[&args[..], &["--out", "out"]].concat());
+        let out = case.succeeds(&[
+            "run",
+            "e.toml",
+            "--method",
+            method,
+            "--seconds",
+            "1",
+            "--out",
+            "out",
+        ]);
         let summary = json(&case.dir.join("out/summary.json"));
         let evaluations = summary["evaluations"].as_u64().unwrap();
         assert!(
