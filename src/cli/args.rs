@@ -284,6 +284,11 @@ pub struct CompareArgs {
     /// Output directory.
     #[arg(long, default_value = "compare")]
     pub out: PathBuf,
+    /// A fitness to reach: the summary gives, per method, the seconds and
+    /// the evaluations until the mean of its runs' best first reaches it
+    /// (e.g. the final mean of a method compared on its own).
+    #[arg(long, value_name = "FITNESS", allow_negative_numbers = true)]
+    pub goal: Option<f64>,
     /// No progress lines.
     #[arg(long, short)]
     pub quiet: bool,

@@ -72,6 +72,9 @@ pub struct MethodSummary {
     /// Seconds until this method's mean curve reaches each other method's
     /// final mean (`null`: never within the budget).
     pub seconds_to_reach: BTreeMap<String, Option<f64>>,
+    /// With `--goal`: when the mean of the runs' best first reached it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub goal: Option<GoalReached>,
     /// Mean evaluations per run.
     pub evaluations: f64,
     /// Mean generations per run.
@@ -80,6 +83,18 @@ pub struct MethodSummary {
     pub best: f64,
     /// The seed of the best run (its model is in `<method>/`).
     pub best_seed: u64,
+}
+
+/// When a method's mean curve first reached the `--goal` fitness: the mean
+/// over its runs of each run's best so far, every run having a valid model.
+#[derive(Debug, Serialize)]
+pub struct GoalReached {
+    /// The goal.
+    pub fitness: f64,
+    /// Seconds into the runs (`null`: not within the budget).
+    pub seconds: Option<f64>,
+    /// Evaluations each run had made (`null`: not within the budget).
+    pub evaluations: Option<u64>,
 }
 
 /// `summary.json` of a comparison.
@@ -107,6 +122,9 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
     )?;
     if args.runs == 0 || args.methods.is_empty() {
         return Err(CliError::msg("give at least one method and one run"));
+    }
+    if args.goal.is_some_and(|g| !g.is_finite()) {
+        return Err(CliError::msg("--goal must be a finite fitness"));
     }
     guard::check_output_dir(&args.out)?;
     let mut outputs: Vec<std::path::PathBuf> =
@@ -301,6 +319,11 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
                 std_at,
                 iou_at: iou,
                 seconds_to_reach,
+                goal: args.goal.map(|fitness| GoalReached {
+                    fitness,
+                    seconds: first_reaching(runs, fitness, |row| row.seconds),
+                    evaluations: first_reaching(runs, fitness, |row| row.evaluations),
+                }),
                 evaluations: runs
                     .iter()
                     .map(|r| r.result.evaluations as f64)
@@ -382,6 +405,17 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
             m.evaluations
         );
     }
+    for (name, m) in &summary.methods {
+        if let Some(g) = &m.goal {
+            match (g.seconds, g.evaluations) {
+                (Some(s), Some(e)) => println!(
+                    "{name} reaches {} after {s:.2} s, {e} evaluations",
+                    g.fitness
+                ),
+                _ => println!("{name} does not reach {} within the budget", g.fitness),
+            }
+        }
+    }
     println!(
         "wrote {0}/curves.csv, {0}/runs.csv, {0}/summary.json, {0}/curves.png, {0}/best_by_method.png and each method's best model in {0}/<method>/",
         out.display()
@@ -405,6 +439,36 @@ fn at(runs: &[Run], t: f64) -> (f64, f64, usize) {
         .collect();
     let (m, s) = mean_std(values.iter().copied());
     (m, s, values.len())
+}
+
+/// The first value of `key` (a row's seconds or evaluations, which grow
+/// along each run) at which the mean of the runs' best so far (each run's
+/// last row at or before it) reaches `goal`, every run having a valid
+/// model. The mean changes only at rows: one sweep over all runs' rows in
+/// the order of `key`. (Of rows with equal keys, checking after each is
+/// enough: a best so far only grows, so a mean that reaches the goal
+/// before the last of them still does after it.)
+fn first_reaching<K: PartialOrd + Copy>(
+    runs: &[Run],
+    goal: f64,
+    key: impl Fn(&Row) -> K,
+) -> Option<K> {
+    let key = &key;
+    let mut rows: Vec<(K, usize, f64)> = (runs.iter().enumerate())
+        .flat_map(|(i, r)| r.rows.iter().map(move |row| (key(row), i, row.best)))
+        .collect();
+    // Stable: a run's rows with equal keys stay in their order.
+    rows.sort_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal));
+    let mut best = vec![f64::NAN; runs.len()];
+    for &(k, i, b) in &rows {
+        if b.is_finite() {
+            best[i] = b;
+        }
+        if best.iter().all(|b| b.is_finite()) && mean_std(best.iter().copied()).0 >= goal {
+            return Some(k);
+        }
+    }
+    None
 }
 
 /// Mean and (population) standard deviation; NaN for no values.
@@ -434,9 +498,9 @@ mod tests {
         }
     }
 
-    #[test]
-    fn curves_take_the_last_row_at_or_before_t() {
-        let run = |rows: Vec<Row>| Run {
+    /// A run with these rows.
+    fn run(rows: Vec<Row>) -> Run {
+        Run {
             seed: 0,
             rows,
             iou_at: Vec::new(),
@@ -452,7 +516,85 @@ mod tests {
                 stop: crate::optimize::StopReason::WallTime,
                 population: Vec::new(),
             },
-        };
+        }
+    }
+
+    /// [`first_reaching`] written plainly: every row's key in turn, the
+    /// mean of the runs' last rows at or before it, as [`at`] takes them.
+    fn first_reaching_reference<K: PartialOrd + Copy>(
+        runs: &[Run],
+        goal: f64,
+        key: impl Fn(&Row) -> K,
+    ) -> Option<K> {
+        let mut keys: Vec<K> = runs.iter().flat_map(|r| r.rows.iter().map(&key)).collect();
+        keys.sort_by(|a, b| a.partial_cmp(b).expect("no NaN keys"));
+        keys.into_iter().find(|&k| {
+            let bests: Vec<f64> = (runs.iter())
+                .filter_map(|r| {
+                    (r.rows.iter().take_while(|row| key(row) <= k).last())
+                        .map(|row| row.best)
+                        .filter(|b| b.is_finite())
+                })
+                .collect();
+            bests.len() == runs.len() && mean_std(bests.into_iter()).0 >= goal
+        })
+    }
+
+    proptest::proptest! {
+        /// Over random runs (rows with equal times or evaluations, runs
+        /// without a valid model at first, goals the means hit exactly).
+        #[test]
+        fn the_goal_is_reached_where_the_plain_search_says(
+            runs in proptest::collection::vec(
+                proptest::collection::vec((0u8..3, 0u8..3, 0u8..2, 0u8..4), 0..12),
+                1..4,
+            ),
+            goal in 0u8..12,
+        ) {
+            let runs: Vec<Run> = runs
+                .into_iter()
+                .map(|steps| {
+                    let (mut t, mut e, mut best) = (0.0, 0, f64::NAN);
+                    let rows = steps.into_iter().map(|(dt, de, valid, gain)| {
+                        t += f64::from(dt) * 0.5;
+                        e += u64::from(de) * 100;
+                        if valid == 1 || best.is_finite() {
+                            best = best.max(0.0) + f64::from(gain);
+                        }
+                        let mut r = row(t, best);
+                        r.evaluations = e;
+                        r
+                    });
+                    run(rows.collect())
+                })
+                .collect();
+            let goal = f64::from(goal) * 0.5;
+            proptest::prop_assert_eq!(
+                first_reaching(&runs, goal, |r| r.seconds),
+                first_reaching_reference(&runs, goal, |r| r.seconds)
+            );
+            proptest::prop_assert_eq!(
+                first_reaching(&runs, goal, |r| r.evaluations),
+                first_reaching_reference(&runs, goal, |r| r.evaluations)
+            );
+        }
+    }
+
+    #[test]
+    fn the_goal_is_reached_when_every_run_counts() {
+        let runs = [
+            run(vec![row(0.5, f64::NAN), row(1.0, 1.0), row(2.0, 3.0)]),
+            run(vec![row(0.2, 2.0), row(1.5, 5.0)]),
+        ];
+        // At 0.2 s the one valid run alone has 2.0: not yet.
+        assert_eq!(first_reaching(&runs, 1.5, |r| r.seconds), Some(1.0));
+        assert_eq!(first_reaching(&runs, 3.0, |r| r.seconds), Some(1.5));
+        assert_eq!(first_reaching(&runs, 4.0, |r| r.seconds), Some(2.0));
+        assert_eq!(first_reaching(&runs, 4.5, |r| r.seconds), None);
+    }
+
+    #[test]
+    fn curves_take_the_last_row_at_or_before_t() {
         let runs = [
             run(vec![row(0.5, f64::NAN), row(1.0, 1.0), row(2.0, 3.0)]),
             run(vec![row(0.2, 2.0), row(1.5, 5.0)]),
