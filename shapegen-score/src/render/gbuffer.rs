@@ -134,13 +134,17 @@ impl GBuffer {
         let (l0, b) = plane.row(f64::from(s.row) + 0.5);
         let range = row + s.c0 as usize..row + s.c1 as usize;
         let (depth, face) = (&mut self.depth[range.clone()], &mut self.face[range]);
-        let mut x = f64::from(s.c0) + 0.5;
-        for (d, f) in depth.iter_mut().zip(face.iter_mut()) {
-            let k = plane.clamp(l0 + b * x);
+        let x0 = f64::from(s.c0) + 0.5;
+        // Every pixel is written, with what it held or the face: selects
+        // on a mask rather than branches (whether a face is nearer changes
+        // along a span where faces cross, and mispredicted), so the loop
+        // runs on vectors. `x0 + i` is exact, as the pixel centres are.
+        for (i, (d, f)) in depth.iter_mut().zip(face.iter_mut()).enumerate() {
+            let k = plane.clamp(l0 + b * (x0 + i as f64));
             let nearer = k < *d;
+            let mask = u32::from(nearer).wrapping_neg();
             *d = if nearer { k } else { *d };
-            *f = if nearer { index } else { *f };
-            x += 1.0;
+            *f = (*f & !mask) | (index & mask);
         }
     }
 
