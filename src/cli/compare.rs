@@ -69,9 +69,12 @@ pub struct MethodSummary {
     /// model at 10 %, 50 % and 100 % of the budget (`null` while some run
     /// has no valid model yet).
     pub iou_at: BTreeMap<String, Option<f64>>,
-    /// Seconds until this method's mean curve reaches each other method's
-    /// final mean (`null`: never within the budget).
+    /// Seconds until the mean of this method's runs' best first reaches
+    /// each other method's final mean, every run having a valid model
+    /// (`null`: not within the budget); exact, from every run's rows.
     pub seconds_to_reach: BTreeMap<String, Option<f64>>,
+    /// The same in evaluations (each run's, when the mean reached it).
+    pub evaluations_to_reach: BTreeMap<String, Option<u64>>,
     /// With `--goal`: when the mean of the runs' best first reached it.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub goal: Option<GoalReached>,
@@ -137,11 +140,7 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
         outputs.extend(run_files.iter().map(|n| args.out.join(m.name()).join(n)));
     }
     guard::refuse_overwriting_inputs(&outputs, experiment.inputs())?;
-    let method_warnings = args
-        .methods
-        .iter()
-        .flat_map(|&m| experiment.method_warnings(m));
-    for w in experiment.warnings().iter().cloned().chain(method_warnings) {
+    for w in experiment.warnings_for(&args.methods) {
         eprintln!("shapegen: warning: {w}");
     }
     let pool = thread_pool(args.threads)?;
@@ -289,20 +288,13 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
             );
         }
         let (final_mean, final_std) = finals[&method];
-        let mut seconds_to_reach = BTreeMap::new();
+        let (mut seconds_to_reach, mut evaluations_to_reach) = (BTreeMap::new(), BTreeMap::new());
         for (&other, &(goal, _)) in &finals {
-            if other == method {
-                continue;
+            if other != method {
+                let name = other.name().to_string();
+                seconds_to_reach.insert(name.clone(), first_reaching(runs, goal, |r| r.seconds));
+                evaluations_to_reach.insert(name, first_reaching(runs, goal, |r| r.evaluations));
             }
-            // The first grid time where every run has a model and the mean reaches the goal.
-            let reached = times
-                .iter()
-                .zip(&curves[&method])
-                .find(|&(_, &(m, _, n))| n == runs.len() && m >= goal)
-                .map(|(&t, _)| t)
-                // The last grid point is the budget; a run's end counts too.
-                .or_else(|| (final_mean >= goal).then_some(args.seconds));
-            seconds_to_reach.insert(other.name().to_string(), reached);
         }
         let best_run = runs
             .iter()
@@ -319,6 +311,7 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
                 std_at,
                 iou_at: iou,
                 seconds_to_reach,
+                evaluations_to_reach,
                 goal: args.goal.map(|fitness| GoalReached {
                     fitness,
                     seconds: first_reaching(runs, fitness, |row| row.seconds),

@@ -69,11 +69,7 @@ pub(super) fn run(cli: &Cli, args: &RunArgs) -> Result<(), CliError> {
     let pool = thread_pool(args.threads)?;
     let threads = pool.current_num_threads();
     check_outputs(&experiment, args)?;
-    for w in experiment
-        .warnings()
-        .iter()
-        .chain(&experiment.method_warnings(method))
-    {
+    for w in experiment.warnings_for(&[method]) {
         eprintln!("shapegen: warning: {w}");
     }
     if !args.quiet {

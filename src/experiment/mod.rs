@@ -425,15 +425,29 @@ impl Experiment {
         &self.warnings
     }
 
-    /// [`warnings`](Self::warnings) that concern running `method`: a method
+    /// Every warning for running `methods`: the experiment's own
+    /// ([`warnings`](Self::warnings)), then one for each distinct method
     /// that regrows subtrees ([`MethodParams::regrows_subtrees`]) on limits
     /// without a `max_len`.
     #[must_use]
-    pub fn method_warnings(&self, method: Method) -> Vec<String> {
-        let mut w = Vec::new();
+    pub fn warnings_for(&self, methods: &[Method]) -> Vec<String> {
+        let mut w = self.warnings.clone();
+        let mut seen: Vec<Method> = Vec::new();
+        for &method in methods {
+            if !seen.contains(&method) {
+                seen.push(method);
+                w.extend(self.method_warning(method));
+            }
+        }
+        w
+    }
+
+    /// The warning for `method` on limits without a `max_len`, if it
+    /// regrows subtrees.
+    fn method_warning(&self, method: Method) -> Option<String> {
         if self.graph().limits().max_len.is_none() && self.method(method).params.regrows_subtrees()
         {
-            w.push(format!(
+            return Some(format!(
                 "no max_len in [limits] (nor in the generator): {method}'s jumps regrow subtrees from \
                  the generator's own distribution, which can propose models of thousands of genes, \
                  slow to score (RJMCMC on a spaceship experiment made 50 times fewer evaluations \
@@ -441,7 +455,7 @@ impl Experiment {
                  set [limits] max_len to a few times the length you expect"
             ));
         }
-        w
+        None
     }
 
     /// The generator graph, with the experiment's limits.

@@ -50,22 +50,34 @@ fn methods_that_regrow_subtrees_are_warned_of_a_missing_max_len() {
     // The spaceship declares no max_len of its own.
     let e = load(MINIMAL).unwrap();
     assert_eq!(e.graph().limits().max_len, None);
+    // The method warnings come after the experiment's own.
+    let own = e.warnings().len();
+    let extra = |e: &Experiment, methods: &[Method]| {
+        let w = e.warnings_for(methods);
+        assert_eq!(w[..e.warnings().len()], *e.warnings());
+        w[e.warnings().len()..].to_vec()
+    };
     for m in [Method::Rjmcmc, Method::Hybrid, Method::Tandem] {
-        let w = e.method_warnings(m);
+        let w = extra(&e, &[m]);
         assert!(w.len() == 1 && w[0].contains("max_len"), "{m}: {w:?}");
     }
+    // Once for each distinct method, however often it is named.
+    let w = extra(
+        &e,
+        &[Method::Rjmcmc, Method::Ga, Method::Rjmcmc, Method::Tandem],
+    );
+    assert_eq!(w.len(), 2, "{w:?}");
+    assert!(w[0].contains("rjmcmc") && w[1].contains("tandem"), "{w:?}");
     // The paper's GA and SMC never regrow subtrees; a GA with local search does.
     for m in [Method::Ga, Method::Islands, Method::Smc, Method::Sosmc] {
-        assert!(e.method_warnings(m).is_empty(), "{m}");
+        assert_eq!(e.warnings_for(&[m]).len(), own, "{m}");
     }
     let ga = "[ga]\npopulation = 20\nelites = 4\ninit_length = 20\nmutation_rate = 0.3\nsplit = { grow = 1.0, cut = 1.0, alter = 1.0 }\nlocal_search = 4\n";
     let local = load(&format!("{MINIMAL}{ga}")).unwrap();
-    assert_eq!(local.method_warnings(Method::Ga).len(), 1);
+    assert_eq!(extra(&local, &[Method::Ga]).len(), 1);
     // A max_len silences it.
     let limited = load(&format!("{MINIMAL}[limits]\nmax_len = 100\n")).unwrap();
-    for m in Method::ALL {
-        assert!(limited.method_warnings(m).is_empty(), "{m}");
-    }
+    assert!(extra(&limited, &Method::ALL).is_empty());
 }
 
 #[test]
