@@ -261,11 +261,12 @@ fn compare_writes_curves_and_a_summary() {
         .map(|l| l.split(',').collect::<Vec<_>>())
         .filter(|f| f[0] == lead)
         .collect();
+    // runs.csv rounds seconds to microseconds.
     let mean_at = |column: usize, at: f64| {
         let mut best = [f64::NAN; 2];
         for f in rows
             .iter()
-            .filter(|f| f[column].parse::<f64>().unwrap() <= at)
+            .filter(|f| f[column].parse::<f64>().unwrap() <= at + 1e-6)
         {
             best[f[1].parse::<usize>().unwrap()] = f[6].parse().unwrap_or(f64::NAN);
         }
