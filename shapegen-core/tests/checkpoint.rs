@@ -8,7 +8,7 @@ use std::ops::ControlFlow;
 use shapegen_core::demo::{BlocksTarget, blocks_graph};
 use shapegen_core::optimize::{
     Checkpoint, HYBRID_PATIENCE_SHARE, Hybrid, HybridParams, IslandGa, IslandParams, Rjmcmc,
-    RjmcmcParams, Run, SavedState, Smc, SmcParams, Tandem, TandemParams, Topology,
+    RjmcmcParams, Run, SavedChallenge, SavedState, Smc, SmcParams, Tandem, TandemParams, Topology,
 };
 use shapegen_core::prelude::*;
 
@@ -208,6 +208,29 @@ fn every_optimizer_resumes_bit_identically() {
             };
             check(&Hybrid::new(params), seed);
         }
+        // Challengers: a checkpoint while one is due, while one lives, and
+        // on blocks (where the GA progresses, so they come late or never).
+        let flat = FnFitness(|_: &Chromosome| 0.0);
+        for patience in [1, 2, 5] {
+            let params = TandemParams {
+                challenge: patience,
+                balance: patience == 2,
+                ..TandemParams::new(ga, RjmcmcParams::paper(6, init))
+            };
+            check(&Tandem::new(params), seed);
+            check_with(&Tandem::new(params), &graph, &flat, seed);
+        }
+        let due = |patience| {
+            let params = TandemParams {
+                challenge: patience,
+                ..TandemParams::new(ga, RjmcmcParams::paper(6, init))
+            };
+            challenge_at_checkpoint(&Tandem::new(params), &graph, &flat, seed)
+        };
+        // Patience 5 on the flat fitness: stalled at generation 5, its
+        // challenger to be drawn at 6; patience 2: drawn at 3, living at 5.
+        assert!(due(5).pending && due(5).challenger.is_none());
+        assert!(due(2).challenger.is_some());
         for interval in [1, 3] {
             let params = TandemParams {
                 interval,
@@ -224,6 +247,33 @@ fn every_optimizer_resumes_bit_identically() {
             );
         }
     }
+}
+
+/// The challenge a tandem with challengers saves at `STOP_AT`.
+fn challenge_at_checkpoint<F: Fitness>(
+    opt: &Tandem,
+    graph: &Graph,
+    fitness: &F,
+    seed: u64,
+) -> SavedChallenge {
+    let mut saved = None;
+    let mut observer = |s: &GenerationStats<'_>| {
+        if s.generation == STOP_AT
+            && let SavedState::Tandem { challenge, .. } = s.checkpoint().state
+        {
+            saved = challenge;
+        }
+        ControlFlow::Continue(())
+    };
+    opt.run(
+        graph,
+        fitness,
+        &Budget::generations(TOTAL),
+        seed,
+        &mut observer,
+    )
+    .unwrap();
+    saved.expect("a tandem with challengers saves them")
 }
 
 /// Whether `opt` (a hybrid or a tandem) is still in its particles' phase

@@ -4,7 +4,9 @@
 
 use proptest::prelude::*;
 use shapegen_core::demo::blocks_graph;
-use shapegen_core::optimize::{RjmcmcParams, SavedState, SmcParams, Tandem, TandemParams};
+use shapegen_core::optimize::{
+    RjmcmcParams, SavedChallenge, SavedState, SmcParams, Tandem, TandemParams,
+};
 use shapegen_core::prelude::*;
 
 fn tandem(interval: u64) -> Tandem {
@@ -202,6 +204,112 @@ fn a_balanced_tandem_is_deterministic_whatever_the_thread_count() {
     assert_ne!(one.population, other.population);
 }
 
+/// The tandem of [`tandem`] whose GA gets a challenger after `patience`
+/// steps without progress.
+fn challenged(patience: u64) -> Tandem {
+    Tandem::new(TandemParams {
+        challenge: patience,
+        ..tandem(3).params
+    })
+}
+
+/// The saved challenge of each generation's checkpoint, from generation 0.
+fn challenges<F: Fitness>(
+    opt: &Tandem,
+    fitness: &F,
+    generations: u64,
+    seed: u64,
+) -> Vec<SavedChallenge> {
+    let graph = blocks_graph();
+    let mut seen = Vec::new();
+    let mut observer = |s: &GenerationStats<'_>| {
+        let SavedState::Tandem { challenge, .. } = s.checkpoint().state else {
+            panic!("a tandem saves a tandem state");
+        };
+        seen.push(challenge.expect("a tandem with challengers saves them"));
+        std::ops::ControlFlow::Continue(())
+    };
+    opt.run(
+        &graph,
+        fitness,
+        &Budget::generations(generations),
+        seed,
+        &mut observer,
+    )
+    .unwrap();
+    seen
+}
+
+/// On a flat fitness nothing progresses: the GA stalls after its patience,
+/// a challenger's first population is drawn at the next step, the two then
+/// step in turn, and the challenger, never better, is dropped when it has
+/// stalled as long; the GA gets its whole patience again.
+#[test]
+fn a_stalled_ga_gets_a_challenger_that_is_dropped_when_it_stalls_below_it() {
+    let flat = FnFitness(|_: &Chromosome| 0.0);
+    let seen = challenges(&challenged(3), &flat, 14, 5);
+    let at = |g: usize| &seen[g];
+    // Generations 1–3 stall the GA; the third asks for a challenger.
+    assert!((0..3).all(|g| !at(g).pending && at(g).challenger.is_none()));
+    assert!(at(3).pending && at(3).spawned == 1 && at(3).challenger.is_none());
+    // Generation 4 draws its first population (the GA's 60, from island 1),
+    // then the GA (5) and the challenger (6) step in turn.
+    for g in 4..=9 {
+        let c = at(g)
+            .challenger
+            .as_ref()
+            .unwrap_or_else(|| panic!("a challenger after {g}"));
+        assert_eq!(c.island, 1);
+        let SavedState::Population { individuals, .. } = c.population.as_ref() else {
+            panic!("a GA population");
+        };
+        assert_eq!(individuals.len(), 60);
+        assert!(!at(g).pending);
+        // After the GA's step the challenger takes the next one.
+        assert_eq!(at(g).turn, g % 2 == 1, "generation {g}");
+    }
+    // Its third step without progress (generation 10) drops it; the GA
+    // (still island 0) stalls again after 3 more steps.
+    assert!((10..=12).all(|g| at(g).challenger.is_none() && !at(g).pending));
+    assert!(at(13).pending && at(13).spawned == 2);
+    assert!(at(14).challenger.as_ref().is_some_and(|c| c.island == 2));
+    assert!(seen.iter().all(|c| c.island == 0));
+}
+
+/// On a fitness without structure (a hash of the chromosome) a fresh
+/// population is as good as an old one, so challengers overtake the GA
+/// and take its place (its streams become the challenger's).
+#[test]
+fn a_challenger_that_overtakes_the_ga_takes_its_place() {
+    use std::hash::{BuildHasher, BuildHasherDefault, DefaultHasher};
+    let noise = FnFitness(|c: &Chromosome| {
+        let h = BuildHasherDefault::<DefaultHasher>::default().hash_one(c.words());
+        (h >> 11) as f64 / (1u64 << 53) as f64
+    });
+    for seed in [1, 2, 3] {
+        let seen = challenges(&challenged(2), &noise, 150, seed);
+        let islands: std::collections::BTreeSet<u64> = seen.iter().map(|c| c.island).collect();
+        assert!(
+            islands.len() > 1,
+            "seed {seed}: the GA kept island 0's streams"
+        );
+        // The GA only ever takes the place of a challenger that was started.
+        let last = seen.last().unwrap();
+        assert!(islands.iter().all(|&i| i <= last.spawned));
+    }
+}
+
+#[test]
+fn a_tandem_with_challengers_reaches_the_optimum_and_beats_random_search() {
+    crate::common::reaches_the_blocks_optimum(|seed| challenged(5 * seed), &[1, 2, 3]);
+}
+
+#[test]
+fn a_tandem_with_challengers_is_deterministic_whatever_the_thread_count() {
+    let (one, other) = crate::common::same_result_whatever_the_thread_count(&challenged(2), 60);
+    assert_ne!(one.population, other.population);
+}
+
 #[test]
 fn exchange_settings_are_checked() {
     let p = tandem(0).params;
@@ -223,7 +331,7 @@ proptest! {
 
     /// Every model of tandem runs on random graphs is a valid chromosome.
     #[test]
-    fn models_are_valid_chromosomes(graph in crate::common::graph(), seed in any::<u64>(), interval in 1u64..4, local_search in 0usize..3, adaptive_split in any::<bool>(), first in 0usize..3, balance in any::<bool>()) {
+    fn models_are_valid_chromosomes(graph in crate::common::graph(), seed in any::<u64>(), interval in 1u64..4, local_search in 0usize..3, adaptive_split in any::<bool>(), first in 0usize..3, balance in any::<bool>(), challenge in 0u64..4) {
         let f = FnFitness(|c: &Chromosome| -(c.len() as f64 - 10.0).abs());
         let init = InitLength::Between { lo: 1, hi: 30 };
         let params = TandemParams {
@@ -231,6 +339,7 @@ proptest! {
             migrants: 2,
             first_phase: [None, Some(SmcParams::paper(6)), Some(SmcParams::paper_sosmc(6))][first],
             balance,
+            challenge,
             ..TandemParams::new(
                 GaParams { population: 10, elites: 2, init, local_search, adaptive_split, ..GaParams::paper_spaceship() },
                 RjmcmcParams::paper(4, init),
@@ -243,9 +352,12 @@ proptest! {
             std::ops::ControlFlow::Continue(())
         };
         let r = Tandem::new(params).run(&graph, &f, &Budget::generations(12), seed, &mut check).unwrap();
-        // The GA's 10 and the chains' 4; the first phase's 6 particles
-        // instead of the GA's 10 if they are still growing.
-        prop_assert!(r.population.len() == 14 || (first > 0 && r.population.len() == 10));
+        // The GA's 10 (and a challenger's 10) and the chains' 4; the first
+        // phase's 6 particles instead of the GA's 10 if they are still growing.
+        prop_assert!(
+            [14, 24].contains(&r.population.len()) || (first > 0 && r.population.len() == 10),
+            "{} models", r.population.len()
+        );
         let min_len = graph.limits().min_len as usize;
         for i in &r.population {
             if i.fitness.is_finite() || i.chromosome.len() >= min_len {

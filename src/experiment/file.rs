@@ -302,6 +302,7 @@ pub(super) struct TandemFile {
     pub first_phase: Option<FirstPhaseFile>,
     pub balance: Option<bool>,
     pub to_chains: Option<bool>,
+    pub challenge: Option<u64>,
     pub budget: Option<Spanned<BudgetFile>>,
 }
 

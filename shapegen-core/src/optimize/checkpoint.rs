@@ -19,7 +19,7 @@ use std::time::Duration;
 
 use serde::{Deserialize, Serialize};
 
-use super::{Balance, Individual, OptimizeError};
+use super::{Balance, Individual, OptimizeError, Stall};
 use crate::genome::{Chromosome, ChromosomeData};
 use crate::graph::Graph;
 
@@ -124,7 +124,41 @@ pub enum SavedState {
         /// them ([`TandemParams::balance`](super::TandemParams::balance)).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         balance: Option<Balance>,
+        /// The GA's stall and its challenger, if the tandem starts
+        /// challengers ([`TandemParams::challenge`](super::TandemParams::challenge)).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        challenge: Option<SavedChallenge>,
     },
+}
+
+/// A tandem's stalled-GA bookkeeping as stored in a checkpoint (see
+/// [`TandemParams::challenge`](super::TandemParams::challenge)).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SavedChallenge {
+    /// The random streams (island) the GA's population draws from.
+    pub island: u64,
+    /// How the GA's population progresses.
+    pub stall: Stall,
+    /// Challengers started so far (the last one drew from island `spawned`).
+    pub spawned: u64,
+    /// Whether a challenger's first population is to be drawn at the GA's next step.
+    pub pending: bool,
+    /// Whether the challenger takes the GA's next step.
+    pub turn: bool,
+    /// The challenger, if one lives.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub challenger: Option<SavedChallenger>,
+}
+
+/// A tandem's challenger population as stored in a checkpoint.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SavedChallenger {
+    /// Its population ([`SavedState::Population`]).
+    pub population: Box<SavedState>,
+    /// How it progresses.
+    pub stall: Stall,
+    /// The random streams (island) it draws from.
+    pub island: u64,
 }
 
 impl SavedIndividual {

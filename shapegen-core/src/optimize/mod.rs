@@ -17,6 +17,7 @@
 mod adaptive_split;
 mod balance;
 mod budget;
+mod challenger;
 mod checkpoint;
 mod driver;
 mod evaluation;
@@ -38,8 +39,10 @@ use std::time::Duration;
 pub use adaptive_split::{AdaptiveSplit, MIN_SHARE, SMOOTHING};
 pub use balance::{Balance, MAX_LEAN};
 pub use budget::{Budget, StopReason};
+pub use challenger::{PROGRESS_SHARE, Stall};
 pub use checkpoint::{
-    CHECKPOINT_VERSION, Checkpoint, FNV1A_START, SavedIndividual, SavedParticle, SavedState, fnv1a,
+    CHECKPOINT_VERSION, Checkpoint, FNV1A_START, SavedChallenge, SavedChallenger, SavedIndividual,
+    SavedParticle, SavedState, fnv1a,
 };
 pub use driver::Run;
 pub use evaluation::{Pooled, ScratchPool, evaluate_all};

@@ -363,6 +363,7 @@ fn tandem(
     params.first_phase = first_phase(table.first_phase, smc_configs);
     params.balance = table.balance.unwrap_or(params.balance);
     params.to_chains = table.to_chains.unwrap_or(params.to_chains);
+    params.challenge = table.challenge.unwrap_or(params.challenge);
     let problems = params.problems();
     let mut config = config(
         ctx,
