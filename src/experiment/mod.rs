@@ -106,7 +106,7 @@
 //! # [tandem]  interval = 10, migrants = 2, local_search = 30, elite_dedup = true, adaptive_split = false,
 //! #           first_phase = "none" | "smc" | "sosmc"   # as the hybrid's; the chains wait meanwhile
 //! #           balance = true, to_chains = false       # share evaluations by progress; send the GA's best to the chains
-//! #           challenge = 0                           # GA steps without progress before a challenger population starts (0: never)
+//! #           challenge = 100                         # GA steps without progress before a challenger population starts (0: never)
 //! ```
 //!
 //! A target that covers no cell (outside the grid, not closed, too small)

@@ -716,6 +716,22 @@ fn the_tandem_balance_is_read() {
 }
 
 #[test]
+fn the_tandem_challenge_is_read() {
+    let read = |table: &str| {
+        let e = load(&format!("{MINIMAL}{table}")).unwrap();
+        let MethodParams::Tandem(p) = e.method(Method::Tandem).params else {
+            panic!("a tandem holds its parameters");
+        };
+        p.challenge
+    };
+    assert_eq!(read(""), shapegen_core::optimize::TANDEM_CHALLENGE);
+    assert_eq!(read("[tandem]\nchallenge = 0\n"), 0);
+    assert_eq!(read("[tandem]\nchallenge = 250\n"), 250);
+    let (_, at, msg) = invalid(&format!("{MINIMAL}[tandem]\nchallenge = -1\n"));
+    assert_eq!(at, "tandem.challenge", "{msg}");
+}
+
+#[test]
 fn a_first_phase_takes_the_smc_or_sosmc_settings() {
     let tables = "[ga]\npopulation = 120\nelites = 20\ninit_length = 30\nmutation_rate = 0.3\nsplit = { grow = 1.0, cut = 1.0, alter = 1.0 }\n[smc]\nparticles = 70\n[sosmc]\nparticles = 80\n";
     let first = |toml: &str| {

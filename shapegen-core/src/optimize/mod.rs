@@ -56,7 +56,9 @@ pub use random::RandomSearch;
 pub use rjmcmc::{DelayedRejection, Ladder, LogLikelihood, Rjmcmc, RjmcmcParams};
 pub use selection::{Roulette, RouletteShift, rank_order, tournament};
 pub use smc::{MAX_STEP_GENES, Resampling, SlotOrder, Smc, SmcParams, SmcWeights};
-pub use tandem::{TANDEM_INTERVAL, TANDEM_LOCAL_SEARCH, TANDEM_MIGRANTS, Tandem, TandemParams};
+pub use tandem::{
+    TANDEM_CHALLENGE, TANDEM_INTERVAL, TANDEM_LOCAL_SEARCH, TANDEM_MIGRANTS, Tandem, TandemParams,
+};
 
 use crate::genome::Chromosome;
 use crate::graph::Graph;

@@ -78,6 +78,9 @@ pub const TANDEM_MIGRANTS: usize = 2;
 /// The GA's local search in [`TandemParams::recommended`] (children a
 /// generation, at most the GA's non-elite places).
 pub const TANDEM_LOCAL_SEARCH: usize = 30;
+/// The [`TandemParams::challenge`] of [`TandemParams::recommended`]: GA
+/// steps without progress before a challenger starts.
+pub const TANDEM_CHALLENGE: u64 = 100;
 
 impl TandemParams {
     /// The GA and the chains of `ga` and `rjmcmc`, with the default exchange.
@@ -99,15 +102,17 @@ impl TandemParams {
     /// deduplication and [`TANDEM_LOCAL_SEARCH`] local-search children a
     /// generation (at most its non-elite places), beside the chains of
     /// `rjmcmc`, with the default exchange interval and migrants, the
-    /// [`balance`](Self::balance) on, and the chains' best going to the GA
+    /// [`balance`](Self::balance) on, the chains' best going to the GA
     /// but not the GA's to the chains ([`to_chains`](Self::to_chains)
-    /// off). `reproduction.md` (*Beyond the paper*) has the measurements
-    /// behind these choices.
+    /// off), and a challenger after [`TANDEM_CHALLENGE`] GA steps without
+    /// progress ([`challenge`](Self::challenge)). `reproduction.md`
+    /// (*Beyond the paper*) has the measurements behind these choices.
     #[must_use]
     pub fn recommended(ga: GaParams, rjmcmc: RjmcmcParams) -> Self {
         Self {
             balance: true,
             to_chains: false,
+            challenge: TANDEM_CHALLENGE,
             ..Self::new(
                 GaParams {
                     elite_dedup: true,
