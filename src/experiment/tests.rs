@@ -690,13 +690,19 @@ fn the_adaptive_split_is_read_for_the_ga_and_the_tandem() {
     assert!(msg.contains("boolean"), "{msg}");
 }
 
+/// The tandem's parameters of the minimal experiment with `table` added.
+fn tandem_of(table: &str) -> crate::optimize::TandemParams {
+    let e = load(&format!("{MINIMAL}{table}")).unwrap();
+    let MethodParams::Tandem(p) = e.method(Method::Tandem).params else {
+        panic!("a tandem holds its parameters");
+    };
+    p
+}
+
 #[test]
 fn the_tandem_balance_is_read() {
     let read = |table: &str| {
-        let e = load(&format!("{MINIMAL}{table}")).unwrap();
-        let MethodParams::Tandem(p) = e.method(Method::Tandem).params else {
-            panic!("a tandem holds its parameters");
-        };
+        let p = tandem_of(table);
         (p.balance, p.to_chains)
     };
     // The recommended tandem's: balanced, the GA's best kept from the chains.
@@ -717,14 +723,8 @@ fn the_tandem_balance_is_read() {
 
 #[test]
 fn the_tandem_challenge_is_read() {
-    let read = |table: &str| {
-        let e = load(&format!("{MINIMAL}{table}")).unwrap();
-        let MethodParams::Tandem(p) = e.method(Method::Tandem).params else {
-            panic!("a tandem holds its parameters");
-        };
-        p.challenge
-    };
-    assert_eq!(read(""), shapegen_core::optimize::TANDEM_CHALLENGE);
+    let read = |table: &str| tandem_of(table).challenge;
+    assert_eq!(read(""), crate::optimize::TANDEM_CHALLENGE);
     assert_eq!(read("[tandem]\nchallenge = 0\n"), 0);
     assert_eq!(read("[tandem]\nchallenge = 250\n"), 250);
     let (_, at, msg) = invalid(&format!("{MINIMAL}[tandem]\nchallenge = -1\n"));
