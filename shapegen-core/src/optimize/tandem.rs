@@ -61,7 +61,10 @@ pub struct TandemParams {
     /// generation) after which a *challenger* starts: a second GA
     /// population from random models, which steps in turn with the GA,
     /// takes its place if its best overtakes the GA's, and is dropped if it
-    /// stalls as long below it (see `challenger`). `0` (the default): never.
+    /// stalls as long below it (see `challenger`). `0`: never, the value
+    /// of [`new`](Self::new) and of saved parameters without the field;
+    /// [`recommended`](Self::recommended) (what `--method tandem` runs)
+    /// sets [`TANDEM_CHALLENGE`].
     #[serde(default)]
     pub challenge: u64,
 }
