@@ -169,8 +169,9 @@ fn tree_volume_fitness(target: &str, n: u32, good: f64, bad: f64) -> Option<Volu
 
 /// Benchmarks evaluating every one of `models` in turn on one thread, with
 /// one scratch (as one worker thread does), made afresh for each iteration
-/// (not timed): a volume scratch remembers the instances it voxelized, and
-/// these benches measure scoring models it has not seen.
+/// (not timed): a scratch remembers the instances it voxelized or drew
+/// (for image scenes, those of leaf-sized shapes), and these benches
+/// measure scoring models it has not seen.
 fn bench_models<F: Fitness>(
     c: &mut Criterion,
     group: &str,
@@ -196,8 +197,8 @@ fn bench_models<F: Fitness>(
 }
 
 /// [`bench_models`] with one scratch that has evaluated `models` before:
-/// every instance is then replayed from the volume scratch's instance
-/// cache, the most it can save (an optimizer's models share most, not all,
+/// every instance it remembers is then replayed from its instance cache,
+/// the most that can save (an optimizer's models share most, not all,
 /// of their instances with earlier ones).
 fn bench_seen_before<F: Fitness>(
     c: &mut Criterion,
@@ -283,6 +284,8 @@ fn bench_score(c: &mut Criterion) {
             })
             .collect();
         bench_models(c, "score/tree_sketch", name, &fitness, &trees);
+        let seen = format!("{name}_seen_before");
+        bench_seen_before(c, "score/tree_sketch", &seen, &fitness, &trees);
     }
 
     // Trees in volumes: ~100 leaves a tree, each a small open non-convex mesh.
