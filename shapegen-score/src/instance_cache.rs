@@ -5,9 +5,10 @@
 //! in a GA run on the tree-avoid scene, 99 % of the instances added had been
 //! added before, with the same shape and the same transform bits. A scene
 //! records what an instance wrote (the volume scene its cell runs, the image
-//! scene its count differences) the first time, and replays the record
-//! instead of voxelizing or rasterizing it again. A record is the same
-//! numbers the instance wrote, so a replay gives the same counts.
+//! scene the runs of pixels it covers) the first time, and replays the
+//! record instead of voxelizing or rasterizing it again. A replay gives
+//! the same counts (volume scenes) or the same covered pixels (image
+//! scenes, which read nothing else of a count) as adding the instance anew.
 
 use std::hash::BuildHasher;
 

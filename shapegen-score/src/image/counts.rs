@@ -98,7 +98,8 @@ impl ImageScratch {
     /// scratch: an instance of the same shape with the same transform as
     /// one added before (in this or an earlier model, with the same targets)
     /// makes that one's writes again instead of being drawn, with the same
-    /// counts. An instance's writes are recorded the second time it is
+    /// covered pixels (its record holds only whether each pixel is covered,
+    /// not by how many of its triangles: see `Layers::move_into`). An instance's writes are recorded the second time it is
     /// added (the first, it is drawn as by `add`: most instances of a
     /// random population are never seen again). Only shapes with more than
     /// 16 vertices are remembered (boxes and the built-in leaf are drawn
@@ -142,7 +143,8 @@ impl ImageScratch {
                     alone,
                 } = work;
                 // Drawn alone, then moved: the rasterizer's inner loops stay
-                // as they are, and the record has one write a changed cell.
+                // as they are, and the record has two writes a run of
+                // covered pixels (and a widen a row).
                 let seen = layers.iter_mut().zip(views.iter()).zip(alone.iter_mut());
                 for (i, ((layers, view), alone)) in seen.take(n).enumerate() {
                     writes.push(Write::Target(i as u32).pack());

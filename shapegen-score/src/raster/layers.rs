@@ -7,8 +7,8 @@
 
 use super::{PixelSpan, ceil_small};
 
-/// One write into [`Layers`], as recorded for a replay: the same writes
-/// give the same counts, in any order (extents widen by min and max, counts
+/// One write into [`Layers`], as recorded for a replay (see
+/// [`Layers::move_into`]): the same writes give the same counts, in any order (extents widen by min and max, counts
 /// add as integers).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Write {
@@ -149,12 +149,19 @@ impl Layers {
         self.diff[base + s.c1 as usize] -= 1;
     }
 
-    /// Adds these counts (one instance's) to `into` (of the same size,
-    /// which [`Write::fits`]), appends the writes that did so to `log`
-    /// ([packed](Write::pack)), and sets these back to
-    /// zero: per row with a part that may be non-zero, that part widened,
-    /// and its non-zero differences added. Counts add up, so `into` ends as
-    /// if the instance had been drawn into it directly.
+    /// Adds these counts' *coverage* (one instance's: 1 where its count is
+    /// positive, else 0) to `into` (of the same size, which
+    /// [`Write::fits`]), appends the writes that did so to `log`
+    /// ([packed](Write::pack)), and sets these counts back to zero: per row
+    /// with covered pixels, the part from its first to one past its last
+    /// change of coverage widened, and a difference of ±1 added where
+    /// the coverage changes. Only whether a count is positive is ever read
+    /// (`ImageScratch::counts_for`, [`covered_spans`](Self::covered_spans)),
+    /// and every instance's counts are at least zero, so `into` is covered
+    /// where it would be had the instance been drawn into it directly; the
+    /// record holds two writes a run of covered pixels instead of one a
+    /// change of the instance's own count (a leaf's hundreds of
+    /// overlapping triangles change it at most of its cells).
     pub(crate) fn move_into(&mut self, into: &mut Layers, log: &mut Vec<u64>) {
         let stride = self.width as usize + 1;
         for r in self.rows.0..self.rows.1 {
@@ -162,28 +169,32 @@ impl Layers {
             if c0 >= c1 {
                 continue;
             }
-            let w = Write::Widen {
-                row: r,
-                cols: (c0, c1),
-            };
-            into.redo(w);
-            log.push(w.pack());
-            let start = r as usize * stride + c0 as usize;
-            let cells = start..r as usize * stride + c1 as usize;
+            let base = r as usize * stride;
+            let cells = base + c0 as usize..base + c1 as usize;
             let (from, to) = (&mut self.diff[cells.clone()], &mut into.diff[cells]);
+            // The row's widen is written before its adds, once they are
+            // known; at most one per row.
+            let mark = log.len();
+            let (mut first, mut last) = (u32::MAX, 0);
+            let (mut count, mut covered) = (0i32, false);
             // Most of a bounding box is zero: blocks of it are tested at
             // once (the test vectorizes), and only the non-zero ones read
-            // cell by cell.
-            let mut offset = start;
+            // cell by cell (a block of zeros changes neither the count
+            // nor the coverage).
+            let mut col = c0;
             for (from, to) in from.chunks_mut(BLOCK).zip(to.chunks_mut(BLOCK)) {
                 if from.iter().fold(0, |any, &d| any | d) != 0 {
                     for (j, (d, t)) in from.iter_mut().zip(to).enumerate() {
-                        let delta = std::mem::take(d);
-                        if delta != 0 {
+                        count += std::mem::take(d);
+                        if (count > 0) != covered {
+                            covered = !covered;
+                            let delta = if covered { 1 } else { -1 };
                             *t += delta;
+                            let c = col + j as u32;
+                            (first, last) = (first.min(c), c);
                             log.push(
                                 Write::Add {
-                                    cell: (offset + j) as u32,
+                                    cell: (base + c as usize) as u32,
                                     delta,
                                 }
                                 .pack(),
@@ -191,7 +202,21 @@ impl Layers {
                         }
                     }
                 }
-                offset += BLOCK;
+                col += BLOCK as u32;
+            }
+            if covered {
+                // Covered to the end (crossings past the image's right edge
+                // are counted in its last cell, so a closed outline always
+                // ends uncovered): as far as the instance's own part.
+                last = c1 - 1;
+            }
+            if first <= last {
+                let w = Write::Widen {
+                    row: r,
+                    cols: (first, last + 1),
+                };
+                into.redo(w);
+                log.insert(mark, w.pack());
             }
         }
         self.rows = (self.height, 0);
@@ -288,6 +313,76 @@ mod tests {
             for w in [Write::Add { cell, delta }, Write::Widen { row, cols }, Write::Target(target)] {
                 prop_assert_eq!(Write::unpack(w.pack()), w);
             }
+        }
+
+        /// An instance's counts (overlapping spans: counts above one) moved
+        /// into layers that hold another's cover their union there, and so
+        /// do the logged writes redone on a copy of those layers; the log
+        /// holds a widen and two adds a run of covered pixels per row, and
+        /// the instance's layers end empty.
+        #[test]
+        fn moved_counts_cover_the_union_with_two_writes_a_run(
+            own in prop::collection::vec((0u32..6, 0u32..20, 0u32..21), 0..12),
+            other in prop::collection::vec((0u32..6, 0u32..20, 0u32..21), 0..6),
+        ) {
+            let (w, h) = (20u32, 6u32);
+            let spans = |list: &[(u32, u32, u32)]| -> Vec<PixelSpan> {
+                list.iter()
+                    .filter(|(_, a, b)| a < b)
+                    .map(|&(row, c0, c1)| PixelSpan { row, c0, c1 })
+                    .collect()
+            };
+            let (own, other) = (spans(&own), spans(&other));
+            let mut alone = Layers::new(w, h);
+            let mut into = Layers::new(w, h);
+            for s in &own {
+                alone.span(*s);
+            }
+            for s in &other {
+                into.span(*s);
+            }
+            let mut copy = into.clone();
+            let mut log = Vec::new();
+            alone.move_into(&mut into, &mut log);
+            for &bits in &log {
+                copy.redo(Write::unpack(bits));
+            }
+            // The reference: each pixel covered by either list.
+            let mut covered = vec![false; (w * h) as usize];
+            for s in own.iter().chain(&other) {
+                for c in s.c0..s.c1 {
+                    covered[(s.row * w + c) as usize] = true;
+                }
+            }
+            let pixels = |layers: &Layers| {
+                let mut out = vec![false; (w * h) as usize];
+                layers.covered_spans(|s| {
+                    for c in s.c0..s.c1 {
+                        out[(s.row * w + c) as usize] = true;
+                    }
+                });
+                out
+            };
+            prop_assert_eq!(&pixels(&into), &covered);
+            prop_assert_eq!(&pixels(&copy), &covered);
+            prop_assert!(pixels(&alone).iter().all(|&c| !c));
+            prop_assert!(alone.diff.iter().all(|&d| d == 0));
+            // Runs of the instance's own coverage, row by row.
+            let mut mine = vec![false; (w * h) as usize];
+            for s in &own {
+                for c in s.c0..s.c1 {
+                    mine[(s.row * w + c) as usize] = true;
+                }
+            }
+            let (mut runs, mut rows) = (0, 0);
+            for row in mine.chunks(w as usize) {
+                let starts = (0..row.len()).filter(|&c| row[c] && (c == 0 || !row[c - 1])).count();
+                runs += starts;
+                rows += usize::from(starts > 0);
+            }
+            let widens = log.iter().filter(|&&b| matches!(Write::unpack(b), Write::Widen { .. })).count();
+            prop_assert_eq!(widens, rows);
+            prop_assert_eq!(log.len() - widens, 2 * runs);
         }
     }
 }
