@@ -8,8 +8,8 @@
 use super::{PixelSpan, ceil_small};
 
 /// One write into [`Layers`], as recorded for a replay (see
-/// [`Layers::move_into`]): the same writes give the same counts, in any order (extents widen by min and max, counts
-/// add as integers).
+/// [`Layers::move_into`]): the same writes give the same counts, in any
+/// order (extents widen by min and max, counts add as integers).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Write {
     /// Row `row`'s part that may hold non-zero differences widened to the
