@@ -347,33 +347,29 @@ mod tests {
             for &bits in &log {
                 copy.redo(Write::unpack(bits));
             }
-            // The reference: each pixel covered by either list.
-            let mut covered = vec![false; (w * h) as usize];
-            for s in own.iter().chain(&other) {
-                for c in s.c0..s.c1 {
-                    covered[(s.row * w + c) as usize] = true;
-                }
-            }
-            let pixels = |layers: &Layers| {
+            // Each pixel a span of `spans` covers.
+            let cover = |spans: &[PixelSpan]| {
                 let mut out = vec![false; (w * h) as usize];
-                layers.covered_spans(|s| {
+                for s in spans {
                     for c in s.c0..s.c1 {
                         out[(s.row * w + c) as usize] = true;
                     }
-                });
+                }
                 out
             };
+            let pixels = |layers: &Layers| {
+                let mut spans = Vec::new();
+                layers.covered_spans(|s| spans.push(s));
+                cover(&spans)
+            };
+            // The reference: each pixel covered by either list.
+            let covered = cover(&[own.as_slice(), other.as_slice()].concat());
             prop_assert_eq!(&pixels(&into), &covered);
             prop_assert_eq!(&pixels(&copy), &covered);
             prop_assert!(pixels(&alone).iter().all(|&c| !c));
             prop_assert!(alone.diff.iter().all(|&d| d == 0));
             // Runs of the instance's own coverage, row by row.
-            let mut mine = vec![false; (w * h) as usize];
-            for s in &own {
-                for c in s.c0..s.c1 {
-                    mine[(s.row * w + c) as usize] = true;
-                }
-            }
+            let mine = cover(&own);
             let (mut runs, mut rows) = (0, 0);
             for row in mine.chunks(w as usize) {
                 let starts = (0..row.len()).filter(|&c| row[c] && (c == 0 || !row[c - 1])).count();
