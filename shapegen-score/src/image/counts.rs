@@ -99,10 +99,11 @@ impl ImageScratch {
     /// one added before (in this or an earlier model, with the same targets)
     /// makes that one's writes again instead of being drawn, with the same
     /// covered pixels (its record holds only whether each pixel is covered,
-    /// not by how many of its triangles: see `Layers::move_into`). An instance's writes are recorded the second time it is
-    /// added (the first, it is drawn as by `add`: most instances of a
-    /// random population are never seen again). Only shapes with more than
-    /// 16 vertices are remembered (boxes and the built-in leaf are drawn
+    /// not by how many of its triangles: see `Layers::move_into`). An
+    /// instance's writes are recorded the second time it is added (the
+    /// first, it is drawn as by `add`: most instances of a random
+    /// population are never seen again). Only shapes with more than 16
+    /// vertices are remembered (boxes and the built-in leaf are drawn
     /// faster than their writes are recorded; the rule is
     /// `RasterShape::worth_replaying`), and only for images less than
     /// 65,536 pixels wide and high.
