@@ -28,30 +28,41 @@ proptest! {
     /// G, B and the weight sum equal what the brute-force coverage gives,
     /// and a second model counted in the same scratch starts from nothing.
     /// Up to ten boxes, leaves and trunks of very different sizes, so that
-    /// some are hidden behind the others.
+    /// some are hidden behind the others. Two targets: weights of three
+    /// values (counted by class) and of eleven (pixel by pixel, whose sum
+    /// is then exactly the row-major one).
     #[test]
     fn counts_match_brute_force(instances in proptest::collection::vec((placement(0.1..2.5, Vec3::splat(-1.5), Vec3::splat(1.5)), 0usize..3), 1..10)) {
         let cam = camera(48, 36);
         // A checkerboard of attracting (+1), repelling (−2) and don't-care (0) pixels.
-        let weights: Vec<f32> = (0..48 * 36).map(|i| [1.0, -2.0, 0.0][(i / 5 + i / 48) % 3]).collect();
-        let target = ImageTarget::new(cam, weights.clone()).unwrap();
-        let shapes = [Mesh::unit_cube(), Mesh::leaf(), Mesh::trunk()].map(|m| RasterShape::new("shape", &m).unwrap());
-        let placed: Vec<(&RasterShape, Affine3A)> = instances.iter().map(|(t, k)| (&shapes[*k], *t)).collect();
-        let mut scratch = ImageScratch::new(std::slice::from_ref(&target));
-        for round in 0..2 {
-            let used = &placed[..placed.len() - round.min(placed.len() - 1)];
-            scratch.begin();
-            for (shape, t) in used {
-                scratch.add(std::slice::from_ref(&target), shape, t);
+        let few: Vec<f32> = (0..48 * 36).map(|i| [1.0, -2.0, 0.0][(i / 5 + i / 48) % 3]).collect();
+        // Eleven values from −1 to 1.5, not all sums of which are exact.
+        let many: Vec<f32> = (0..48 * 36).map(|i| ((i * 37) % 11) as f32 * 0.25 - 1.0 + 0.1).collect();
+        for (weights, by_pixel) in [(few, false), (many, true)] {
+            let target = ImageTarget::new(cam, weights.clone()).unwrap();
+            let shapes = [Mesh::unit_cube(), Mesh::leaf(), Mesh::trunk()].map(|m| RasterShape::new("shape", &m).unwrap());
+            let placed: Vec<(&RasterShape, Affine3A)> = instances.iter().map(|(t, k)| (&shapes[*k], *t)).collect();
+            let mut scratch = ImageScratch::new(std::slice::from_ref(&target));
+            for round in 0..2 {
+                let used = &placed[..placed.len() - round.min(placed.len() - 1)];
+                scratch.begin();
+                for (shape, t) in used {
+                    scratch.add(std::slice::from_ref(&target), shape, t);
+                }
+                let c = scratch.counts_for(std::slice::from_ref(&target));
+                let cover = reference_coverage(&cam, used);
+                let good = cover.iter().zip(&weights).filter(|(c, w)| **c && **w > 0.0).count() as u64;
+                let bad = cover.iter().zip(&weights).filter(|(c, w)| **c && **w < 0.0).count() as u64;
+                let weight: f64 = cover.iter().zip(&weights).filter(|(c, _)| **c).map(|(_, w)| f64::from(*w)).sum();
+                prop_assert_eq!((c.good, c.bad), (good, bad));
+                if by_pixel {
+                    // Pixel by pixel: the same additions in the same order.
+                    prop_assert_eq!(c.weight, weight);
+                } else {
+                    prop_assert!((c.weight - weight).abs() < 1e-9);
+                }
+                prop_assert_eq!(scratch.covered(0), cover);
             }
-            let c = scratch.counts_for(std::slice::from_ref(&target));
-            let cover = reference_coverage(&cam, used);
-            let good = cover.iter().zip(&weights).filter(|(c, w)| **c && **w > 0.0).count() as u64;
-            let bad = cover.iter().zip(&weights).filter(|(c, w)| **c && **w < 0.0).count() as u64;
-            let weight: f64 = cover.iter().zip(&weights).filter(|(c, _)| **c).map(|(_, w)| f64::from(*w)).sum();
-            prop_assert_eq!((c.good, c.bad), (good, bad));
-            prop_assert!((c.weight - weight).abs() < 1e-9);
-            prop_assert_eq!(scratch.covered(0), cover);
         }
     }
 }

@@ -214,7 +214,7 @@ impl SceneOutputs for ImageTargets {
         let mut written = Vec::new();
         for (target, name) in self.targets().iter().zip(self.view_files()) {
             let mut picture =
-                renderer.picture(meshes, instances, &target.camera, &Style::default());
+                renderer.picture(meshes, instances, target.camera(), &Style::default());
             target.draw_outline(&mut picture);
             let path = dir.join(name);
             write_png_rgba(&path, &picture)?;
@@ -230,8 +230,8 @@ impl SceneOutputs for ImageTargets {
     fn fingerprint(&self) -> u64 {
         let mut h = FNV1A_START;
         for t in self.targets() {
-            h = fnv1a(h, format!("{:?}", t.camera).as_bytes());
-            for w in &t.weights {
+            h = fnv1a(h, format!("{:?}", t.camera()).as_bytes());
+            for w in t.weights() {
                 h = fnv1a(h, &w.to_bits().to_le_bytes());
             }
         }
@@ -239,7 +239,7 @@ impl SceneOutputs for ImageTargets {
     }
 
     fn describe(&self) -> String {
-        let t = &self.targets()[0].camera;
+        let t = &self.targets()[0].camera();
         format!(
             "{} image target(s) of {}×{} with {} target pixels",
             self.targets().len(),

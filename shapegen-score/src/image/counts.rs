@@ -4,8 +4,9 @@ use glam::Affine3A;
 use shapegen_core::express::ShapeId;
 
 use super::ImageTarget;
+use super::target::{CLASSES, WeightClasses};
 use crate::instance_cache::InstanceCache;
-use crate::raster::{Layers, RasterShape, Rasterizer, View, Write};
+use crate::raster::{Coverage, Layers, RasterShape, Rasterizer, View, WORD};
 
 /// What one model's silhouettes cover, summed over the targets.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -18,72 +19,123 @@ pub struct ImageCounts {
     pub bad: u64,
 }
 
-/// Per-thread working memory: per target, how many triangles of the model
-/// cover each pixel centre, and the rasterizer.
+/// Per-thread working memory: per target, which pixels the model covers,
+/// in two parts, and the rasterizer.
 ///
-/// Every instance adds its triangles' edges to per-row differences of the
-/// counts (see [`Rasterizer`](crate::Rasterizer)); no instance paints over
-/// another. The counts are read once per model, over the part of each row
-/// the model touched, and only that part is cleared for the next model, so
-/// an evaluation costs what the model's silhouettes cross.
-///
-/// The writes of every instance added by shape (see
-/// [`add_shape`](Self::add_shape)) are remembered, and an instance added
-/// again is replayed from them.
+/// A pixel is covered by the model iff some instance covers it. An
+/// instance drawn (see [`Rasterizer`](crate::Rasterizer)) adds its
+/// triangles' edges to per-row differences of the model's triangle counts
+/// (a pixel is covered there iff its count is positive); an instance
+/// replayed (see [`add_shape`](Self::add_shape)) adds its runs of covered
+/// pixels to a bitmap of the model's coverage, a few word ORs a run. No
+/// instance paints over another. The two are read together once per
+/// model, the counts cell by cell over the part of each row that drawn
+/// instances touched and the bitmap 64 pixels at a time, and only those
+/// parts are cleared for the next model.
 #[derive(Clone, Debug)]
 pub struct ImageScratch {
     work: Work,
-    cache: WriteCache,
+    cache: RunCache,
 }
 
-/// What adding an instance writes: per target its counts, and the views and
-/// rasterizer that draw into them; per target, the counts of the instance
-/// alone, drawn there first when its writes are to be recorded.
+/// What adding an instance writes: per target the model's coverage by
+/// replayed instances and its counts of drawn ones, the views and
+/// rasterizer that draw, and per target the counts of an instance drawn
+/// alone to record its runs.
 #[derive(Clone, Debug)]
 struct Work {
+    coverage: Vec<Coverage>,
     layers: Vec<Layers>,
     views: Vec<View>,
     rasterizer: Rasterizer,
     alone: Vec<Layers>,
 }
 
-/// Per instance, its writes into every target's counts, each target's
-/// after a [`Write::Target`] marker, [packed](Write::pack) (see
-/// [`InstanceCache`]).
-type WriteCache = InstanceCache<u64, ()>;
+/// Per instance, its runs of covered pixels in every target, each
+/// target's after a [`Record::Target`] marker, [packed](Record::pack)
+/// (see [`InstanceCache`]).
+type RunCache = InstanceCache<u64, ()>;
 
-/// Writes the cache holds at most (8 bytes each: 64 MiB); when full, it
+/// Runs the cache holds at most (8 bytes each: 64 MiB); when full, it
 /// starts over. A 250-gene tree with the paper's leaf in the tree-sketch
-/// scene writes about 17,000 when none of its instances were seen before:
-/// room for two generations of 200 such trees, about what a GA reuses.
-const CACHE_WRITES: usize = 1 << 23;
+/// scene has about 6,000 when none of its instances were seen before:
+/// room for several generations of 200 such trees, more than a GA reuses.
+const CACHE_RUNS: usize = 1 << 23;
 
 /// Instances the cache holds at most; when full, it starts over.
 const CACHE_INSTANCES: usize = 1 << 18;
+
+/// One entry of an instance's record in the cache.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Record {
+    /// Pixels `c0..c1` of row `row` are covered.
+    Run { row: u32, c0: u32, c1: u32 },
+    /// The runs that follow are in target `i` of the scratch's.
+    Target(u32),
+}
+
+/// The top bit of a packed [`Record::Target`].
+const TARGET: u64 = 1 << 63;
+
+/// The largest width or height of images whose runs are recorded
+/// ([`Record::pack`] keeps rows and columns in 17 bits).
+const RECORDED_SIDE: u32 = (1 << 17) - 1;
+
+impl Record {
+    /// The entry in 8 bytes: a run as its row and columns in 17 bits each,
+    /// a marker as its target under the top bit.
+    fn pack(self) -> u64 {
+        match self {
+            Self::Run { row, c0, c1 } => u64::from(row) << 34 | u64::from(c0) << 17 | u64::from(c1),
+            Self::Target(i) => TARGET | u64::from(i),
+        }
+    }
+
+    /// The entry `bits` [packs](Self::pack).
+    #[inline]
+    fn unpack(bits: u64) -> Self {
+        const SIDE: u64 = (1 << 17) - 1;
+        if bits & TARGET != 0 {
+            Self::Target(bits as u32)
+        } else {
+            Self::Run {
+                row: (bits >> 34) as u32,
+                c0: (bits >> 17 & SIDE) as u32,
+                c1: (bits & SIDE) as u32,
+            }
+        }
+    }
+}
 
 impl ImageScratch {
     /// Working memory for `targets`.
     #[must_use]
     pub fn new(targets: &[ImageTarget]) -> Self {
-        let layers: Vec<Layers> = targets
-            .iter()
-            .map(|t| Layers::new(t.camera.width, t.camera.height))
-            .collect();
+        let size = |t: &ImageTarget| (t.camera().width, t.camera().height);
         Self {
             work: Work {
-                // Made here, not at the first record: evaluations after the
-                // first ones allocate nothing.
-                alone: layers.clone(),
-                layers,
-                views: targets.iter().map(|t| View::new(&t.camera)).collect(),
+                coverage: targets
+                    .iter()
+                    .map(|t| Coverage::new(size(t).0, size(t).1))
+                    .collect(),
+                layers: targets
+                    .iter()
+                    .map(|t| Layers::new(size(t).0, size(t).1))
+                    .collect(),
+                views: targets.iter().map(|t| View::new(t.camera())).collect(),
                 rasterizer: Rasterizer::new(),
+                alone: targets
+                    .iter()
+                    .map(|t| Layers::new(size(t).0, size(t).1))
+                    .collect(),
             },
-            cache: WriteCache::new(CACHE_WRITES, CACHE_INSTANCES),
+            cache: RunCache::new(CACHE_RUNS, CACHE_INSTANCES),
         }
     }
 
     /// Starts a new model.
     pub fn begin(&mut self) {
+        self.work.coverage.iter_mut().for_each(Coverage::clear);
         self.work.layers.iter_mut().for_each(Layers::clear);
     }
 
@@ -97,16 +149,14 @@ impl ImageScratch {
     /// [`add`](Self::add) for shape `shape` of the fitness that made this
     /// scratch: an instance of the same shape with the same transform as
     /// one added before (in this or an earlier model, with the same targets)
-    /// makes that one's writes again instead of being drawn, with the same
-    /// covered pixels (its record holds only whether each pixel is covered,
-    /// not by how many of its triangles: see `Layers::move_into`). An
-    /// instance's writes are recorded the second time it is added (the
+    /// adds that one's runs of covered pixels again instead of being drawn.
+    /// An instance's runs are recorded the second time it is added (the
     /// first, it is drawn as by `add`: most instances of a random
     /// population are never seen again). Only shapes with more than 16
     /// vertices are remembered (boxes and the built-in leaf are drawn
-    /// faster than their writes are recorded; the rule is
-    /// `RasterShape::worth_replaying`), and only for images less than
-    /// 65,536 pixels wide and high.
+    /// about as fast as their runs are replayed; the rule is
+    /// `RasterShape::worth_replaying`), and only for images at most
+    /// 131,071 pixels wide and high.
     pub fn add_shape(
         &mut self,
         targets: &[ImageTarget],
@@ -116,7 +166,10 @@ impl ImageScratch {
     ) {
         self.take_targets(targets);
         let n = targets.len();
-        let fits = (self.work.layers.iter().take(n)).all(|l| Write::fits(l.size().0, l.size().1));
+        let fits = (self.work.coverage.iter().take(n)).all(|c| {
+            let (w, h) = c.size();
+            w <= RECORDED_SIDE && h <= RECORDED_SIDE
+        });
         if !(raster.worth_replaying() && fits) {
             self.work.draw(n, raster, transform);
             return;
@@ -126,33 +179,17 @@ impl ImageScratch {
             transform,
             &mut self.work,
             |work| work.draw(n, raster, transform),
-            |work, writes, ()| {
+            |work, runs, ()| {
                 // Every record starts with a target marker.
-                let mut target = 0;
-                for &w in writes {
-                    match Write::unpack(w) {
-                        Write::Target(i) => target = i as usize,
-                        w => work.layers[target].redo(w),
+                let mut coverage = &mut work.coverage[0];
+                for &bits in runs {
+                    match Record::unpack(bits) {
+                        Record::Target(i) => coverage = &mut work.coverage[i as usize],
+                        Record::Run { row, c0, c1 } => coverage.add_run(row, c0, c1),
                     }
                 }
             },
-            |work, writes| {
-                let Work {
-                    layers,
-                    views,
-                    rasterizer,
-                    alone,
-                } = work;
-                // Drawn alone, then moved: the rasterizer's inner loops stay
-                // as they are, and the record has two writes a run of
-                // covered pixels (and a widen a row).
-                let seen = layers.iter_mut().zip(views.iter()).zip(alone.iter_mut());
-                for (i, ((layers, view), alone)) in seen.take(n).enumerate() {
-                    writes.push(Write::Target(i as u32).pack());
-                    rasterizer.draw(view, raster, transform, alone);
-                    alone.move_into(layers, writes);
-                }
-            },
+            |work, runs| work.record(n, raster, transform, runs),
         );
     }
 
@@ -167,29 +204,23 @@ impl ImageScratch {
     /// The counts of the model added since [`begin`](Self::begin), over
     /// all targets (each covered pixel counted once per target).
     ///
-    /// Reads the counts over the part of each row the model touched; the
-    /// weights are summed in a fixed order, so the same model gives the
-    /// same sum.
+    /// Reads the coverage over the part of each row the model touched. A target whose
+    /// weights take few values ([`WeightClasses`]) is counted by class, 64
+    /// pixels at a time, its weight summed as each class's weight times
+    /// its covered pixels; another has its covered pixels' weights summed
+    /// in row-major order. Either way the same model gives the same sum.
     #[must_use]
     pub fn counts_for(&self, targets: &[ImageTarget]) -> ImageCounts {
         let mut counts = ImageCounts::default();
-        for (target, layers) in targets.iter().zip(&self.work.layers) {
-            let width = target.camera.width as usize;
-            let mut lanes = [0.0f64; 4];
-            let (mut good, mut bad) = (0u64, 0u64);
-            layers.rows(|row, c0, diff| {
-                // The last cell (right of the image) counts for no pixel.
-                let diff = &diff[..diff.len().min(width - c0 as usize)];
-                let at = row as usize * width + c0 as usize;
-                let (l, g, b) = count_row(diff, &target.weights[at..at + diff.len()]);
-                for k in 0..4 {
-                    lanes[k] += l[k];
-                }
-                (good, bad) = (good + g, bad + b);
-            });
-            counts.weight += (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]);
-            counts.good += good;
-            counts.bad += bad;
+        let each = self.work.coverage.iter().zip(&self.work.layers);
+        for (target, (coverage, layers)) in targets.iter().zip(each) {
+            let c = match target.classes() {
+                Some(classes) => count_by_class(coverage, layers, classes),
+                None => count_by_pixel(coverage, layers, target.weights()),
+            };
+            counts.weight += c.weight;
+            counts.good += c.good;
+            counts.bad += c.bad;
         }
         counts
     }
@@ -198,11 +229,15 @@ impl ImageScratch {
     /// added since [`begin`](Self::begin) covers.
     #[must_use]
     pub fn covered(&self, i: usize) -> Vec<bool> {
-        let layers = &self.work.layers[i];
-        let (w, h) = layers.size();
+        let coverage = &self.work.coverage[i];
+        let (w, h) = coverage.size();
         let mut out = vec![false; (w * h) as usize];
-        layers.covered_spans(|s| {
-            out[(s.row * w + s.c0) as usize..(s.row * w + s.c1) as usize].fill(true);
+        coverage.with_layers(&self.work.layers[i], |row, k, mut bits| {
+            while bits != 0 {
+                let c = k * WORD + bits.trailing_zeros();
+                out[(row * w + c) as usize] = true;
+                bits &= bits - 1;
+            }
         });
         out
     }
@@ -213,12 +248,16 @@ impl Work {
     /// scratch has (new cameras); whether any did.
     fn take_views(&mut self, targets: &[ImageTarget]) -> bool {
         let mut changed = false;
-        let each = (self.layers.iter_mut().zip(&mut self.alone)).zip(&mut self.views);
-        for (target, ((layers, alone), view)) in targets.iter().zip(each) {
-            if view.camera() != &target.camera {
-                *view = View::new(&target.camera);
-                let size = (target.camera.width, target.camera.height);
-                if layers.size() != size {
+        let each = (self.coverage.iter_mut().zip(&mut self.layers)).zip(&mut self.alone);
+        for (target, (((coverage, layers), alone), view)) in
+            targets.iter().zip(each.zip(&mut self.views))
+        {
+            let camera = target.camera();
+            if view.camera() != camera {
+                *view = View::new(camera);
+                let size = (camera.width, camera.height);
+                if coverage.size() != size {
+                    *coverage = Coverage::new(size.0, size.1);
                     *layers = Layers::new(size.0, size.1);
                     *alone = Layers::new(size.0, size.1);
                 }
@@ -234,37 +273,67 @@ impl Work {
             self.rasterizer.draw(view, shape, transform, layers);
         }
     }
-}
 
-/// The weight sums (in four lanes), `G` and `B` of the covered pixels of
-/// one row part from its count differences and weights. Kept in locals (a
-/// closure adding to its caller's sums would go through memory at every
-/// pixel), the weights in four independent lanes: one running sum would
-/// make every covered pixel wait for the previous addition.
-#[inline]
-fn count_row(diff: &[i32], weights: &[f32]) -> ([f64; 4], u64, u64) {
-    let mut lanes = [0.0f64; 4];
-    let (mut good, mut bad) = (0u64, 0u64);
-    let mut count = 0;
-    let mut diff4 = diff.chunks_exact(4);
-    let mut weights4 = weights.chunks_exact(4);
-    for (d, wt) in (&mut diff4).zip(&mut weights4) {
-        for k in 0..4 {
-            count += d[k];
-            let m = count > 0;
-            lanes[k] += if m { f64::from(wt[k]) } else { 0.0 };
-            good += u64::from(m & (wt[k] > 0.0));
-            bad += u64::from(m & (wt[k] < 0.0));
+    /// Draws one instance alone in each of the first `targets` targets,
+    /// adds its runs of covered pixels to their coverage, and appends them
+    /// to `record`, each target's after its marker.
+    fn record(
+        &mut self,
+        targets: usize,
+        shape: &RasterShape,
+        transform: &Affine3A,
+        record: &mut Vec<u64>,
+    ) {
+        let each = (self.coverage.iter_mut().zip(&self.views)).zip(&mut self.alone);
+        for (i, ((coverage, view), alone)) in each.take(targets).enumerate() {
+            record.push(Record::Target(i as u32).pack());
+            self.rasterizer.draw(view, shape, transform, alone);
+            alone.take_runs(|row, c0, c1| {
+                coverage.add_run(row, c0, c1);
+                record.push(Record::Run { row, c0, c1 }.pack());
+            });
         }
     }
-    for (d, &wt) in diff4.remainder().iter().zip(weights4.remainder()) {
-        count += d;
-        let m = count > 0;
-        lanes[0] += if m { f64::from(wt) } else { 0.0 };
-        good += u64::from(m & (wt > 0.0));
-        bad += u64::from(m & (wt < 0.0));
+}
+
+/// [`ImageCounts`] of the pixels `coverage` or `layers` cover against
+/// weights in `classes`: per class, its covered pixels counted a word at a
+/// time; the weight is each class's weight times that count, summed in
+/// class order.
+fn count_by_class(coverage: &Coverage, layers: &Layers, classes: &WeightClasses) -> ImageCounts {
+    let words = coverage.words();
+    let mut n = [0u64; CLASSES];
+    coverage.with_layers(layers, |row, k, bits| {
+        let masks = &classes.masks[row as usize * words + k as usize];
+        for (n, mask) in n.iter_mut().zip(masks) {
+            *n += u64::from((bits & mask).count_ones());
+        }
+    });
+    let mut counts = ImageCounts::default();
+    for (&v, &n) in classes.values.iter().zip(&n) {
+        counts.weight += f64::from(v) * n as f64;
+        counts.good += if v > 0.0 { n } else { 0 };
+        counts.bad += if v < 0.0 { n } else { 0 };
     }
-    (lanes, good, bad)
+    counts
+}
+
+/// [`ImageCounts`] of the pixels `coverage` or `layers` cover against
+/// `weights` (row-major), pixel by pixel in row-major order.
+fn count_by_pixel(coverage: &Coverage, layers: &Layers, weights: &[f32]) -> ImageCounts {
+    let width = coverage.size().0;
+    let mut counts = ImageCounts::default();
+    coverage.with_layers(layers, |row, k, mut bits| {
+        while bits != 0 {
+            let c = k * WORD + bits.trailing_zeros();
+            let w = weights[(row * width + c) as usize];
+            counts.weight += f64::from(w);
+            counts.good += u64::from(w > 0.0);
+            counts.bad += u64::from(w < 0.0);
+            bits &= bits - 1;
+        }
+    });
+    counts
 }
 
 #[cfg(test)]

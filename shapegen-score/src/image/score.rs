@@ -93,7 +93,7 @@ impl ImageTargets {
             .map(|(i, t)| {
                 let covered = scratch.covered(i);
                 let (mut both, mut model) = (0u64, 0u64);
-                for (&c, &w) in covered.iter().zip(&t.weights) {
+                for (&c, &w) in covered.iter().zip(t.weights()) {
                     model += u64::from(c);
                     both += u64::from(c && w > 0.0);
                 }

@@ -92,10 +92,55 @@ impl PngMask {
 /// Positive weights attract the silhouette, negative repel, zero is "don't care".
 #[derive(Clone, Debug, PartialEq)]
 pub struct ImageTarget {
-    /// The camera (its size is the image's).
-    pub camera: Camera,
-    /// Row-major weights, `width × height`, row 0 at the top.
-    pub weights: Vec<f32>,
+    camera: Camera,
+    weights: Vec<f32>,
+    /// The weights as bit masks, if they take few values.
+    classes: Option<WeightClasses>,
+}
+
+/// Distinct non-zero weights a target may have for [`WeightClasses`].
+pub(crate) const CLASSES: usize = 4;
+
+/// A target's weights as one bit mask a distinct non-zero weight, when
+/// there are at most [`CLASSES`] of them (a sketch has two: its target and
+/// background weights): the weights of covered pixels are then counted 64
+/// pixels at a time, by class.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct WeightClasses {
+    /// The weight of each class (unused classes: 0, with empty masks).
+    pub(crate) values: [f32; CLASSES],
+    /// Per word of the image (rows of `⌈width / 64⌉` words, bit `c % 64`
+    /// of word `c / 64` for column `c`), the mask of each class.
+    pub(crate) masks: Vec<[u64; CLASSES]>,
+}
+
+impl WeightClasses {
+    /// The classes of `weights` (`width` a row), if they are few enough.
+    fn new(width: u32, weights: &[f32]) -> Option<Self> {
+        let mut values: Vec<f32> = Vec::with_capacity(CLASSES);
+        for &w in weights {
+            // Bit equality: −0 is a zero weight too, and is skipped.
+            if w != 0.0 && !values.iter().any(|v| v.to_bits() == w.to_bits()) {
+                if values.len() == CLASSES {
+                    return None;
+                }
+                values.push(w);
+            }
+        }
+        let words = width.div_ceil(crate::raster::WORD) as usize;
+        let rows = weights.len() / (width as usize).max(1);
+        let mut masks = vec![[0u64; CLASSES]; words * rows];
+        for (row, ws) in weights.chunks_exact((width as usize).max(1)).enumerate() {
+            for (c, &w) in ws.iter().enumerate() {
+                if let Some(k) = values.iter().position(|v| v.to_bits() == w.to_bits()) {
+                    masks[row * words + c / 64][k] |= 1 << (c % 64);
+                }
+            }
+        }
+        let mut all = [0.0; CLASSES];
+        all[..values.len()].copy_from_slice(&values);
+        Some(Self { values: all, masks })
+    }
 }
 
 impl ImageTarget {
@@ -113,7 +158,30 @@ impl ImageTarget {
         if weights.iter().any(|w| !w.is_finite()) {
             return Err(ScoreError::Target("image weights must be finite".into()));
         }
-        Ok(Self { camera, weights })
+        let classes = WeightClasses::new(camera.width, &weights);
+        Ok(Self {
+            camera,
+            weights,
+            classes,
+        })
+    }
+
+    /// The camera (its size is the image's).
+    #[must_use]
+    pub fn camera(&self) -> &Camera {
+        &self.camera
+    }
+
+    /// Row-major weights, `width × height`, row 0 at the top.
+    #[must_use]
+    pub fn weights(&self) -> &[f32] {
+        &self.weights
+    }
+
+    /// The weights as bit masks, if they take at most [`CLASSES`] non-zero
+    /// values.
+    pub(crate) fn classes(&self) -> Option<&WeightClasses> {
+        self.classes.as_ref()
     }
 
     /// A target from a PNG sketch with the paper's rule ([`PngMask::Red0`]):
@@ -355,5 +423,37 @@ mod pfm_tests {
                 .contains("magic")
         );
         assert!(read_pfm(b"Pf 1", (1, 1)).unwrap_err().contains("truncated"));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Weights of at most four non-zero values become one mask each (a
+    /// bit a pixel, rows of whole words; zeros, of either sign, in none);
+    /// five do not.
+    #[test]
+    fn few_weights_become_masks_by_value() {
+        let (w, h) = (70u32, 3u32);
+        let value = |i: usize| [0.5, -1.0, 0.0, 2.0, -0.0][i % 5];
+        let weights: Vec<f32> = (0..(w * h) as usize).map(value).collect();
+        let classes = WeightClasses::new(w, &weights).unwrap();
+        assert_eq!(classes.values, [0.5, -1.0, 2.0, 0.0]);
+        assert_eq!(classes.masks.len(), 2 * h as usize);
+        for row in 0..h as usize {
+            for c in 0..128 {
+                let bit = |k: usize| classes.masks[row * 2 + c / 64][k] >> (c % 64) & 1 == 1;
+                let weight = (c < w as usize).then(|| weights[row * w as usize + c]);
+                for (k, &v) in classes.values.iter().enumerate() {
+                    let expected = weight.is_some_and(|x| x == v && v != 0.0);
+                    assert_eq!(bit(k), expected, "row {row}, column {c}, class {k}");
+                }
+            }
+        }
+        let four: Vec<f32> = (0..(w * h) as usize).map(|i| (i % 5) as f32).collect();
+        assert!(WeightClasses::new(w, &four).is_some());
+        let five: Vec<f32> = (0..(w * h) as usize).map(|i| (i % 6) as f32).collect();
+        assert!(WeightClasses::new(w, &five).is_none());
     }
 }

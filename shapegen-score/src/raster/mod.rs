@@ -24,9 +24,11 @@ use crate::mesh::Mesh;
 use crate::solid::cross;
 
 mod contour;
+mod coverage;
 mod layers;
 
-pub(crate) use layers::{Layers, Write};
+pub(crate) use coverage::{Coverage, WORD};
+pub(crate) use layers::Layers;
 
 /// A mesh prepared for rasterization.
 #[derive(Clone, Debug)]
