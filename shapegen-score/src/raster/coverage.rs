@@ -6,6 +6,7 @@
 //! model's pixels are read 64 at a time.
 
 use super::Layers;
+use super::extents::RowExtents;
 
 /// Bits of a word of [`Coverage`].
 pub(crate) const WORD: u32 = 64;
@@ -18,11 +19,8 @@ pub(crate) struct Coverage {
     height: u32,
     words: usize,
     bits: Vec<u64>,
-    /// Per row, the words `extent.0..extent.1` that may hold set bits
-    /// (empty: `(u32::MAX, 0)`).
-    extent: Vec<(u32, u32)>,
-    /// The rows that may have a non-empty extent: `rows.0..rows.1`.
-    rows: (u32, u32),
+    /// Per row, the words that may hold set bits.
+    extents: RowExtents,
 }
 
 impl Coverage {
@@ -34,8 +32,7 @@ impl Coverage {
             height,
             words,
             bits: vec![0; words * height as usize],
-            extent: vec![(u32::MAX, 0); height as usize],
-            rows: (height, 0),
+            extents: RowExtents::new(height),
         }
     }
 
@@ -51,14 +48,16 @@ impl Coverage {
 
     /// Uncovers every pixel, at the cost of the words touched.
     pub(crate) fn clear(&mut self) {
-        for r in self.rows.0..self.rows.1 {
-            let (w0, w1) = std::mem::replace(&mut self.extent[r as usize], (u32::MAX, 0));
-            if w0 < w1 {
-                let base = r as usize * self.words;
-                self.bits[base + w0 as usize..base + w1 as usize].fill(0);
-            }
-        }
-        self.rows = (self.height, 0);
+        let Self {
+            bits,
+            extents,
+            words,
+            ..
+        } = self;
+        extents.take_each(|r, (w0, w1)| {
+            let base = r as usize * *words;
+            bits[base + w0 as usize..base + w1 as usize].fill(0);
+        });
     }
 
     /// Covers the pixels `c0..c1` of row `row` (`c0 < c1 <= width`,
@@ -67,9 +66,7 @@ impl Coverage {
     pub(crate) fn add_run(&mut self, row: u32, c0: u32, c1: u32) {
         debug_assert!(c0 < c1 && c1 <= self.width && row < self.height);
         let (w0, w1) = (c0 / WORD, (c1 - 1) / WORD);
-        let e = &mut self.extent[row as usize];
-        *e = (e.0.min(w0), e.1.max(w1 + 1));
-        self.rows = (self.rows.0.min(row), self.rows.1.max(row + 1));
+        self.extents.widen((row, row + 1), (w0, w1 + 1));
         let base = row as usize * self.words;
         // Bits from c0 on in the first word, to c1 − 1 in the last.
         let first = u64::MAX << (c0 % WORD);
@@ -94,19 +91,11 @@ impl Coverage {
     /// model's other instances in the coverage cost their words.
     #[inline]
     pub(crate) fn with_layers(&self, layers: &Layers, mut f: impl FnMut(u32, u32, u64)) {
-        let (l0, l1) = layers.row_range();
-        let (r0, r1) = (self.rows.0.min(l0), self.rows.1.max(l1));
-        for r in r0..r1 {
-            let (w0, w1) = if (self.rows.0..self.rows.1).contains(&r) {
-                self.extent[r as usize]
-            } else {
-                (u32::MAX, 0)
-            };
-            let ((c0, c1), diff) = if (l0..l1).contains(&r) {
-                layers.row(r)
-            } else {
-                ((u32::MAX, 0), &[][..])
-            };
+        let (mine, theirs) = (self.extents.rows(), layers.row_range());
+        // Rows outside either range have empty parts there.
+        for r in mine.start.min(theirs.start)..mine.end.max(theirs.end) {
+            let (w0, w1) = self.extents.get(r);
+            let ((c0, c1), diff) = layers.row(r);
             // The words of pixels the layers' part may cover (the last
             // cell, right of the image, counts for no pixel).
             let c1 = c1.min(self.width);

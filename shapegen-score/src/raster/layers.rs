@@ -5,6 +5,7 @@
 //! a whole model is filled without ever sorting crossings or painting a
 //! span, and read once: a pixel is covered iff its count is positive.
 
+use super::extents::RowExtents;
 use super::{PixelSpan, ceil_small};
 
 /// Cells [`Layers::take_runs`] tests at once.
@@ -20,11 +21,8 @@ pub(crate) struct Layers {
     /// image) takes crossings that count for no pixel. All zero outside the
     /// extents.
     diff: Vec<i32>,
-    /// Per row, the cells `extent.0..extent.1` that may be non-zero
-    /// (empty: `(u32::MAX, 0)`).
-    extent: Vec<(u32, u32)>,
-    /// The rows that may have a non-empty extent: `rows.0..rows.1`.
-    rows: (u32, u32),
+    /// Per row, the cells that may be non-zero.
+    extents: RowExtents,
 }
 
 impl Layers {
@@ -34,8 +32,7 @@ impl Layers {
             width,
             height,
             diff: vec![0; (width as usize + 1) * height as usize],
-            extent: vec![(u32::MAX, 0); height as usize],
-            rows: (height, 0),
+            extents: RowExtents::new(height),
         }
     }
 
@@ -47,26 +44,17 @@ impl Layers {
     /// Sets every count back to zero, at the cost of what was touched.
     pub(crate) fn clear(&mut self) {
         let stride = self.width as usize + 1;
-        for r in self.rows.0..self.rows.1 {
-            let (c0, c1) = std::mem::replace(&mut self.extent[r as usize], (u32::MAX, 0));
-            if c0 < c1 {
-                let base = r as usize * stride;
-                self.diff[base + c0 as usize..base + c1 as usize].fill(0);
-            }
-        }
-        self.rows = (self.height, 0);
+        let Self { diff, extents, .. } = self;
+        extents.take_each(|r, (c0, c1)| {
+            let base = r as usize * stride;
+            diff[base + c0 as usize..base + c1 as usize].fill(0);
+        });
     }
 
     /// Widens the part that may hold non-zero differences to the cells
     /// `cols.0..cols.1` of the rows `rows.0..rows.1` (`cols.1 <= width + 1`).
     pub(crate) fn widen(&mut self, rows: (u32, u32), cols: (u32, u32)) {
-        if rows.0 >= rows.1 {
-            return;
-        }
-        self.rows = (self.rows.0.min(rows.0), self.rows.1.max(rows.1));
-        for e in &mut self.extent[rows.0 as usize..rows.1 as usize] {
-            *e = (e.0.min(cols.0), e.1.max(cols.1));
-        }
+        self.extents.widen(rows, cols);
     }
 
     /// Adds `delta` to the counts of the pixels of row `row` whose centres
@@ -94,14 +82,11 @@ impl Layers {
     /// [`covered_spans`](Self::covered_spans), found by testing blocks of
     /// the differences at once (most of an instance's box holds none).
     pub(crate) fn take_runs(&mut self, mut f: impl FnMut(u32, u32, u32)) {
-        let stride = self.width as usize + 1;
-        for r in self.rows.0..self.rows.1 {
-            let (c0, c1) = std::mem::replace(&mut self.extent[r as usize], (u32::MAX, 0));
-            if c0 >= c1 {
-                continue;
-            }
+        let (width, stride) = (self.width, self.width as usize + 1);
+        let Self { diff, extents, .. } = self;
+        extents.take_each(|r, (c0, c1)| {
             let base = r as usize * stride;
-            let cells = &mut self.diff[base + c0 as usize..base + c1 as usize];
+            let cells = &mut diff[base + c0 as usize..base + c1 as usize];
             let (mut count, mut start) = (0i32, None);
             let mut col = c0;
             // A block of zeros changes neither the count nor the coverage;
@@ -110,7 +95,7 @@ impl Layers {
                 if block.iter().fold(0, |any, &d| any | d) != 0 {
                     for (j, d) in block.iter_mut().enumerate() {
                         count += std::mem::take(d);
-                        let c = (col + j as u32).min(self.width);
+                        let c = (col + j as u32).min(width);
                         match (count > 0, start) {
                             (true, None) => start = Some(c),
                             (false, Some(s)) => {
@@ -128,13 +113,12 @@ impl Layers {
             if let Some(s) = start {
                 // Only a count that does not return to zero (absurd
                 // coordinates) leaves a run open at the last cell.
-                let end = c1.min(self.width);
+                let end = c1.min(width);
                 if s < end {
                     f(r, s, end);
                 }
             }
-        }
-        self.rows = (self.height, 0);
+        });
     }
 
     /// Calls `f` with each row that may hold covered pixels, its first
@@ -142,8 +126,8 @@ impl Layers {
     /// that may be non-zero; the count is zero left of them).
     pub(crate) fn rows(&self, mut f: impl FnMut(u32, u32, &[i32])) {
         let stride = self.width as usize + 1;
-        for r in self.rows.0..self.rows.1 {
-            let (c0, c1) = self.extent[r as usize];
+        for r in self.extents.rows() {
+            let (c0, c1) = self.extents.get(r);
             if c0 < c1 {
                 let base = r as usize * stride;
                 f(r, c0, &self.diff[base + c0 as usize..base + c1 as usize]);
@@ -151,9 +135,9 @@ impl Layers {
         }
     }
 
-    /// The rows that may hold non-zero differences, `rows.0..rows.1`.
-    pub(crate) fn row_range(&self) -> (u32, u32) {
-        self.rows
+    /// The rows that may hold non-zero differences.
+    pub(crate) fn row_range(&self) -> std::ops::Range<u32> {
+        self.extents.rows()
     }
 
     /// Row `r`'s cells that may be non-zero, `c0..c1` (empty if none), and
@@ -162,7 +146,7 @@ impl Layers {
     pub(crate) fn row(&self, r: u32) -> ((u32, u32), &[i32]) {
         let stride = self.width as usize + 1;
         let base = r as usize * stride;
-        (self.extent[r as usize], &self.diff[base..base + stride])
+        (self.extents.get(r), &self.diff[base..base + stride])
     }
 
     /// Calls `f` with the runs of covered pixels (positive count), row by

@@ -25,6 +25,7 @@ use crate::solid::cross;
 
 mod contour;
 mod coverage;
+mod extents;
 mod layers;
 
 pub(crate) use coverage::{Coverage, WORD};
