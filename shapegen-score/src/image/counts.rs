@@ -204,11 +204,12 @@ impl ImageScratch {
     /// The counts of the model added since [`begin`](Self::begin), over
     /// all targets (each covered pixel counted once per target).
     ///
-    /// Reads the coverage over the part of each row the model touched. A target whose
-    /// weights take few values ([`WeightClasses`]) is counted by class, 64
-    /// pixels at a time, its weight summed as each class's weight times
-    /// its covered pixels; another has its covered pixels' weights summed
-    /// in row-major order. Either way the same model gives the same sum.
+    /// Reads the coverage over the part of each row the model touched. A
+    /// target whose weights take at most four non-zero values (a PNG
+    /// target's two) is counted by value, 64 pixels at a time, its weight
+    /// summed as each value times its covered pixels; another has its
+    /// covered pixels' weights summed in row-major order. Either way the
+    /// same model gives the same sum.
     #[must_use]
     pub fn counts_for(&self, targets: &[ImageTarget]) -> ImageCounts {
         let mut counts = ImageCounts::default();
