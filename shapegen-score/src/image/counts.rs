@@ -94,7 +94,7 @@ impl Record {
     /// The entry `bits` [packs](Self::pack).
     #[inline]
     fn unpack(bits: u64) -> Self {
-        const SIDE: u64 = (1 << 17) - 1;
+        const SIDE: u64 = RECORDED_SIDE as u64;
         if bits & TARGET != 0 {
             Self::Target(bits as u32)
         } else {

@@ -5,6 +5,7 @@ use std::path::Path;
 
 use crate::camera::Camera;
 use crate::error::ScoreError;
+use crate::raster::WORD;
 
 /// The most memory decoding one target image may take (a 16-bit RGBA
 /// image of 8192 × 4096 pixels).
@@ -127,13 +128,13 @@ impl WeightClasses {
                 values.push(w);
             }
         }
-        let words = width.div_ceil(crate::raster::WORD) as usize;
-        let rows = weights.len() / (width as usize).max(1);
-        let mut masks = vec![[0u64; CLASSES]; words * rows];
-        for (row, ws) in weights.chunks_exact((width as usize).max(1)).enumerate() {
+        let (word, row_len) = (WORD as usize, (width as usize).max(1));
+        let words = row_len.div_ceil(word);
+        let mut masks = vec![[0u64; CLASSES]; words * (weights.len() / row_len)];
+        for (row, ws) in weights.chunks_exact(row_len).enumerate() {
             for (c, &w) in ws.iter().enumerate() {
                 if let Some(k) = values.iter().position(|v| v.to_bits() == w.to_bits()) {
-                    masks[row * words + c / 64][k] |= 1 << (c % 64);
+                    masks[row * words + c / word][k] |= 1 << (c % word);
                 }
             }
         }
