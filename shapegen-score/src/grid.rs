@@ -97,6 +97,12 @@ impl Grid {
         self.cell
     }
 
+    /// `1 / cell size` along `axis`.
+    #[inline]
+    pub(crate) fn inv_cell(&self, axis: usize) -> f64 {
+        self.inv_cell[axis]
+    }
+
     /// Centre of lattice cell `c` (any integers, inside the grid or not).
     #[inline]
     #[must_use]

@@ -1,5 +1,7 @@
 //! Convex solids: each row's inside interval straight from the face planes.
 
+use glam::DVec3;
+
 use super::{Rows, Span, Voxelizer};
 use crate::grid::Grid;
 use crate::solid::Convex;
@@ -20,14 +22,22 @@ pub(super) struct RowPlane {
 /// The face planes of `c`, in the row frame of `r`.
 pub(super) fn row_planes(c: &Convex, r: &Rows, out: &mut Vec<RowPlane>) {
     out.clear();
-    out.extend(c.planes().iter().map(|&(n, d)| RowPlane {
-        at: n.dot(r.o0),
-        ay: n.dot(r.ey),
-        az: n.dot(r.ez),
-        nv: n.dot(r.dir),
-        inv: 1.0 / n.dot(r.dir),
-        d,
-    }));
+    out.extend(c.planes().iter().map(|&p| RowPlane::new(p, r)));
+}
+
+impl RowPlane {
+    /// The face plane `n · p <= d` in the row frame of `r`.
+    #[inline]
+    fn new((n, d): (DVec3, f64), r: &Rows) -> Self {
+        Self {
+            at: n.dot(r.o0),
+            ay: n.dot(r.ey),
+            az: n.dot(r.ez),
+            nv: n.dot(r.dir),
+            inv: 1.0 / n.dot(r.dir),
+            d,
+        }
+    }
 }
 
 /// The inside interval `[a, b) ∩ [0, len]` of row `(y, z)` for a convex
@@ -57,6 +67,106 @@ pub(super) fn convex_row(planes: &[RowPlane], y: f64, z: f64, len: f64) -> Optio
     (a < b).then_some((a, b))
 }
 
+/// An instance's [`RowPlane`]s sorted by what they bound along a row: its
+/// start (`nv < 0`), its end (`nv > 0`), or neither (parallel to the rows).
+#[derive(Clone, Debug, Default)]
+pub(super) struct SplitPlanes {
+    starts: Vec<RowPlane>,
+    ends: Vec<RowPlane>,
+    parallel: Vec<RowPlane>,
+}
+
+impl SplitPlanes {
+    /// Takes the face planes of `c` in the row frame of `r`, sorted.
+    pub(super) fn fill(&mut self, c: &Convex, r: &Rows) {
+        self.clear();
+        for &p in c.planes() {
+            self.push(RowPlane::new(p, r));
+        }
+    }
+
+    /// Takes `planes`, sorted.
+    #[cfg(test)]
+    fn take(&mut self, planes: &[RowPlane]) {
+        self.clear();
+        for &p in planes {
+            self.push(p);
+        }
+    }
+
+    fn clear(&mut self) {
+        self.starts.clear();
+        self.ends.clear();
+        self.parallel.clear();
+    }
+
+    /// Adds `p` to the planes of its kind.
+    #[inline]
+    fn push(&mut self, p: RowPlane) {
+        if p.nv > 0.0 {
+            self.ends.push(p);
+        } else if p.nv < 0.0 {
+            self.starts.push(p);
+        } else {
+            self.parallel.push(p);
+        }
+    }
+
+    /// [`convex_row`] on the same planes, with the same result bit for bit:
+    /// every plane evaluated, without a branch (most rows of a slanted
+    /// solid's box miss it after an unpredictable number of planes), the
+    /// start's maximum and the end's minimum taken apart. A maximum or
+    /// minimum is exact in any order, and a NaN `t` (a plane nearly
+    /// parallel to the rows, met exactly) is skipped as `f64::max` skips it.
+    #[inline]
+    pub(super) fn row(&self, y: f64, z: f64, len: f64) -> Option<(f64, f64)> {
+        let no = |p: &RowPlane| p.at + y * p.ay + z * p.az;
+        let t = |p: &RowPlane| (p.d - no(p)) * p.inv;
+        let mut a = 0.0f64;
+        for p in &self.starts {
+            let t = t(p);
+            a = if t > a { t } else { a };
+        }
+        let mut b = len;
+        for p in &self.ends {
+            let t = t(p);
+            b = if t < b { t } else { b };
+        }
+        let outside = self.parallel.iter().fold(false, |o, p| o | (no(p) > p.d));
+        (!outside && a < b).then_some((a, b))
+    }
+
+    /// [`row`](Self::row) of two rows at once (`y[0]` and `y[1]` at `z`),
+    /// each plane read once for both: the same numbers, lane by lane.
+    #[inline]
+    pub(super) fn rows2(&self, y: [f64; 2], z: f64, len: f64) -> [Option<(f64, f64)>; 2] {
+        let no = |p: &RowPlane| [p.at + y[0] * p.ay + z * p.az, p.at + y[1] * p.ay + z * p.az];
+        let t = |p: &RowPlane| {
+            let n = no(p);
+            [(p.d - n[0]) * p.inv, (p.d - n[1]) * p.inv]
+        };
+        let mut a = [0.0f64; 2];
+        for p in &self.starts {
+            let t = t(p);
+            a[0] = if t[0] > a[0] { t[0] } else { a[0] };
+            a[1] = if t[1] > a[1] { t[1] } else { a[1] };
+        }
+        let mut b = [len; 2];
+        for p in &self.ends {
+            let t = t(p);
+            b[0] = if t[0] < b[0] { t[0] } else { b[0] };
+            b[1] = if t[1] < b[1] { t[1] } else { b[1] };
+        }
+        let mut outside = [false; 2];
+        for p in &self.parallel {
+            let n = no(p);
+            outside[0] |= n[0] > p.d;
+            outside[1] |= n[1] > p.d;
+        }
+        [0, 1].map(|i| (!outside[i] && a[i] < b[i]).then_some((a[i], b[i])))
+    }
+}
+
 impl Voxelizer {
     /// The spans of a convex solid: one interval per row of its box.
     pub(super) fn convex_spans(
@@ -66,7 +176,7 @@ impl Voxelizer {
         r: &Rows,
         mut f: impl FnMut(Span),
     ) {
-        row_planes(c, r, &mut self.planes);
+        self.split.fill(c, r);
         let x_walk = grid.walkable(0);
         let cells = |(a, b): (f64, f64)| {
             let x0 = grid.first_at_or_after(0, r.x_start + a).max(x_walk.start);
@@ -77,19 +187,19 @@ impl Voxelizer {
         // placed without rotation), each cuts every row at the same t, so
         // [`convex_row`] gives every row the same interval or none: it is
         // computed once, and each row only checks the planes parallel to it.
-        if self
-            .planes
+        let split = &self.split;
+        if split
+            .starts
             .iter()
-            .all(|p| p.nv == 0.0 || (p.ay == 0.0 && p.az == 0.0))
+            .chain(&split.ends)
+            .all(|p| p.ay == 0.0 && p.az == 0.0)
         {
             let (mut a, mut b) = (0.0f64, r.len);
-            for p in self.planes.iter().filter(|p| p.nv != 0.0) {
-                let t = (p.d - p.at) * p.inv;
-                if p.nv > 0.0 {
-                    b = b.min(t)
-                } else {
-                    a = a.max(t)
-                }
+            for p in &split.starts {
+                a = a.max((p.d - p.at) * p.inv);
+            }
+            for p in &split.ends {
+                b = b.min((p.d - p.at) * p.inv);
             }
             let (x0, x1) = cells((a, b));
             if a.partial_cmp(&b) != Some(std::cmp::Ordering::Less) || x0 >= x1 {
@@ -99,7 +209,7 @@ impl Voxelizer {
             // component tests y (or z) alone: `wz * 0.0` adds a zero, so
             // the test of a row is the same number either way. Then each
             // y and each z is tested once, not each row.
-            let parallel = || self.planes.iter().filter(|p| p.nv == 0.0);
+            let parallel = || split.parallel.iter();
             if parallel().all(|p| p.ay == 0.0 || p.az == 0.0) {
                 self.rows_in.clear();
                 self.rows_in.extend(r.y.clone().map(|y| {
@@ -128,10 +238,9 @@ impl Voxelizer {
                 let wz = grid.center_along(2, z);
                 for y in r.y.clone() {
                     let wy = grid.center_along(1, y);
-                    let inside = self
-                        .planes
+                    let inside = split
+                        .parallel
                         .iter()
-                        .filter(|p| p.nv == 0.0)
                         .all(|p| p.at + wy * p.ay + wz * p.az <= p.d);
                     if inside {
                         f(Span { y, z, x0, x1 });
@@ -142,15 +251,72 @@ impl Voxelizer {
         }
         for z in r.z.clone() {
             let wz = grid.center_along(2, z);
-            for y in r.y.clone() {
-                let wy = grid.center_along(1, y);
-                if let Some(ab) = convex_row(&self.planes, wy, wz, r.len) {
+            let mut emit = |y: i64, row: Option<(f64, f64)>| {
+                if let Some(ab) = row {
                     let (x0, x1) = cells(ab);
                     if x0 < x1 {
                         f(Span { y, z, x0, x1 });
                     }
                 }
+            };
+            let mut y = r.y.start;
+            while y + 1 < r.y.end {
+                let wy = [grid.center_along(1, y), grid.center_along(1, y + 1)];
+                let [first, second] = split.rows2(wy, wz, r.len);
+                emit(y, first);
+                emit(y + 1, second);
+                y += 2;
             }
+            if y < r.y.end {
+                emit(y, split.row(grid.center_along(1, y), wz, r.len));
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use proptest::prelude::*;
+
+    use super::*;
+
+    /// A plane with whole or fractional coefficients, a sixth of them
+    /// parallel to the rows, some nearly so (`inv` huge or infinite).
+    fn plane() -> impl Strategy<Value = RowPlane> {
+        let c = || prop_oneof![(-4i32..5).prop_map(f64::from), -3.0..3.0f64];
+        let nv = prop_oneof![
+            Just(0.0),
+            (-4i32..5).prop_map(f64::from),
+            -3.0..3.0f64,
+            Just(1e-310),
+            Just(-1e-300)
+        ];
+        (c(), c(), c(), nv, c()).prop_map(|(at, ay, az, nv, d)| RowPlane {
+            at,
+            ay,
+            az,
+            nv,
+            inv: 1.0 / nv,
+            d,
+        })
+    }
+
+    proptest! {
+        /// The split planes give [`convex_row`]'s interval bit for bit,
+        /// one row or two at a time, on rows on and off the planes.
+        #[test]
+        fn split_rows_equal_convex_row(
+            planes in prop::collection::vec(plane(), 0..20),
+            y in prop::array::uniform2(prop_oneof![(-8i32..9).prop_map(|i| f64::from(i) / 2.0), -5.0..5.0f64]),
+            z in prop_oneof![(-8i32..9).prop_map(|i| f64::from(i) / 2.0), -5.0..5.0f64],
+            len in prop_oneof![Just(4.0), 0.1..10.0f64],
+        ) {
+            let mut split = SplitPlanes::default();
+            split.take(&planes);
+            let bits = |r: Option<(f64, f64)>| r.map(|(a, b)| ((a + 0.0).to_bits(), (b + 0.0).to_bits()));
+            let expected = y.map(|y| bits(convex_row(&planes, y, z, len)));
+            prop_assert_eq!(bits(split.row(y[0], z, len)), expected[0]);
+            prop_assert_eq!(split.rows2(y, z, len).map(bits), expected);
         }
     }
 }

@@ -154,11 +154,13 @@ fn clamp(a: Range<i64>, b: &Range<i64>) -> Range<i64> {
 /// candidates change nothing but the work).
 #[inline]
 fn rows_between(grid: &Grid, axis: usize, lo: f64, hi: f64) -> Range<i64> {
-    let (min, cell) = (grid.min()[axis], grid.cell_size()[axis]);
+    let (min, inv_cell) = (grid.min()[axis], grid.inv_cell(axis));
     let walk = grid.walkable(axis);
-    // Fractional row index: integers at the centres. Clamped before the
-    // conversion, so far or non-finite bounds cannot overflow.
-    let at = |v: f64| ((v - min) / cell - 0.5).clamp(walk.start as f64 - 1.0, walk.end as f64);
+    // Fractional row index: integers at the centres (by the reciprocal,
+    // within a few ulps of the quotient: far inside the margin below).
+    // Clamped before the conversion, so far or non-finite bounds cannot
+    // overflow.
+    let at = |v: f64| ((v - min) * inv_cell - 0.5).clamp(walk.start as f64 - 1.0, walk.end as f64);
     let (first, last) = (at(lo) - 1e-6, at(hi) + 1e-6);
     if first.is_nan() || last.is_nan() || first > last {
         return 0..0;
@@ -392,9 +394,10 @@ mod tests {
 
     /// [`rows_between`] as first written, with the float `ceil` and `floor`.
     fn rows_between_reference(grid: &Grid, axis: usize, lo: f64, hi: f64) -> Range<i64> {
-        let (min, cell) = (grid.min()[axis], grid.cell_size()[axis]);
+        let (min, inv_cell) = (grid.min()[axis], grid.inv_cell(axis));
         let walk = grid.walkable(axis);
-        let at = |v: f64| ((v - min) / cell - 0.5).clamp(walk.start as f64 - 1.0, walk.end as f64);
+        let at =
+            |v: f64| ((v - min) * inv_cell - 0.5).clamp(walk.start as f64 - 1.0, walk.end as f64);
         let first = (at(lo) - 1e-6).ceil();
         let last = (at(hi) + 1e-6).floor();
         if first.is_nan() || last.is_nan() || first > last {
@@ -428,6 +431,35 @@ mod tests {
             let hi = lo + width;
             for axis in 0..3 {
                 prop_assert_eq!(rows_between(&grid, axis, lo, hi), rows_between_reference(&grid, axis, lo, hi));
+            }
+        }
+
+        /// Every walkable row whose centre lies in `[lo, hi]` is a
+        /// candidate (the crossing tests decide only candidates), and no
+        /// candidate lies more than one row beyond.
+        #[test]
+        fn rows_between_holds_every_centre_within(
+            n in 1u32..40,
+            lo in prop_oneof![-20.0..20.0f64, (-80i32..80).prop_map(|i| f64::from(i) * 0.125)],
+            width in prop_oneof![0.0..12.0f64, Just(0.0)],
+            min in prop_oneof![Just(-3.0f32), -10.0..0.0f32],
+            size in prop_oneof![Just(10.0f32), 0.1..30.0f32],
+        ) {
+            let grid = Grid::new(DVec3::splat(f64::from(min)).as_vec3(), DVec3::splat(f64::from(min + size)).as_vec3(), UVec3::splat(n)).unwrap();
+            let hi = lo + width;
+            for axis in 0..3 {
+                let rows = rows_between(&grid, axis, lo, hi);
+                let walk = grid.walkable(axis);
+                for i in walk.clone() {
+                    let c = grid.center_along(axis, i);
+                    if (lo..=hi).contains(&c) {
+                        prop_assert!(rows.contains(&i), "row {i} (centre {c}) in [{lo}, {hi}] but not in {rows:?}");
+                    }
+                }
+                if !rows.is_empty() {
+                    prop_assert!(grid.center_along(axis, rows.start) >= lo - grid.cell_size()[axis]);
+                    prop_assert!(grid.center_along(axis, rows.end - 1) <= hi + grid.cell_size()[axis]);
+                }
             }
         }
 

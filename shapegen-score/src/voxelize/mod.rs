@@ -57,7 +57,8 @@ pub struct Span {
 /// Reusable working memory for voxelizing instances.
 #[derive(Clone, Debug, Default)]
 pub struct Voxelizer {
-    planes: Vec<convex::RowPlane>,
+    /// A convex instance's face planes, by what they bound along a row.
+    split: convex::SplitPlanes,
     /// Which rows along y of a box lie inside its planes parallel to x.
     rows_in: Vec<bool>,
     /// The placed mesh: vertices, then triangles (with any cone).
