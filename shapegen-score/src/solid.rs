@@ -425,6 +425,18 @@ pub(crate) fn row_edge(p: DVec3, q: DVec3) -> ([f64; 3], bool) {
     ([p.y * q.z - p.z * q.y, q.y - p.y, p.z - q.z], !before)
 }
 
+/// The bounds `[y_lo, y_hi, z_lo, z_hi]` of the projection of triangle
+/// `v` onto the yz plane, as [`RowTri::yz_bounds`] holds them.
+#[inline]
+pub(crate) fn yz_bounds([a, b, c]: [DVec3; 3]) -> [f64; 4] {
+    [
+        a.y.min(b.y).min(c.y),
+        a.y.max(b.y).max(c.y),
+        a.z.min(b.z).min(c.z),
+        a.z.max(b.z).max(c.z),
+    ]
+}
+
 impl RowTri {
     /// Every field's bits, zeros of either sign as `+0`: for tests that two
     /// ways of preparing a triangle agree exactly.
@@ -463,12 +475,7 @@ impl RowTri {
             flips: [f0, f1, f2],
             plane: [a.x + (n.y * a.y + n.z * a.z) / n.x, -n.z / n.x, -n.y / n.x],
             nx: n.x,
-            yz: [
-                a.y.min(b.y).min(c.y),
-                a.y.max(b.y).max(c.y),
-                a.z.min(b.z).min(c.z),
-                a.z.max(b.z).max(c.z),
-            ],
+            yz: yz_bounds(v),
         }
     }
 

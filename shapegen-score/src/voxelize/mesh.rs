@@ -10,7 +10,7 @@ use glam::DAffine3;
 
 use super::{Rows, Span, Voxelizer};
 use crate::grid::{Centres, Grid};
-use crate::solid::{MeshSolid, RowTri, row_edge};
+use crate::solid::{MeshSolid, RowTri, row_edge, yz_bounds};
 
 /// An instance's rows (its box's, within the walkable lattice) and how a
 /// crossing of one of them packs into a sortable `u64`: the row (z-major,
@@ -89,19 +89,41 @@ impl RowKeys {
         grid: &Grid,
         t: &RowTri,
         hits: &mut Vec<(u64, f64)>,
-        mut n: usize,
+        n: usize,
     ) -> usize {
         if t.parallel() {
             return n;
         }
-        let [y_lo, y_hi, z_lo, z_hi] = t.yz_bounds();
+        match self.candidates(grid, t.yz_bounds()) {
+            Some((ys, zs)) => self.rasterize_rows(grid, t, ys, zs, hits, n),
+            None => n,
+        }
+    }
+
+    /// The candidate rows along y and z of a triangle whose projection
+    /// has bounds `[y_lo, y_hi, z_lo, z_hi]`, if any.
+    #[inline]
+    fn candidates(&self, grid: &Grid, yz: [f64; 4]) -> Option<(Range<i64>, Range<i64>)> {
+        let [y_lo, y_hi, z_lo, z_hi] = yz;
         // Rows beyond the box are never crossed (the reference looks at the
         // box's rows only, too).
         let ys = clamp(rows_between(grid, 1, y_lo, y_hi), &self.y);
         let zs = clamp(rows_between(grid, 2, z_lo, z_hi), &self.z);
-        if ys.is_empty() || zs.is_empty() {
-            return n;
-        }
+        (!ys.is_empty() && !zs.is_empty()).then_some((ys, zs))
+    }
+
+    /// [`rasterize`](Self::rasterize) over the candidate rows `ys` × `zs`
+    /// of a triangle not parallel to the rows.
+    #[inline]
+    fn rasterize_rows(
+        &self,
+        grid: &Grid,
+        t: &RowTri,
+        ys: Range<i64>,
+        zs: Range<i64>,
+        hits: &mut Vec<(u64, f64)>,
+        mut n: usize,
+    ) -> usize {
         let sign = u64::from(t.sign() > 0.0);
         for z in zs {
             let cz = grid.center_along(2, z);
@@ -201,6 +223,24 @@ impl Voxelizer {
     /// placed triangle, with each edge's function computed once for the
     /// two triangles that share it.
     pub(super) fn place(&mut self, m: &MeshSolid, to_world: &DAffine3) {
+        self.place_edges(m, to_world);
+        let (world, edges) = (&self.world, &self.edges);
+        let edge = |k: u32| {
+            let e = &edges[(k >> 1) as usize];
+            (e.coefficients, e.flips[(k & 1) as usize])
+        };
+        self.tris.clear();
+        self.tris.extend(
+            m.triangle_indices()
+                .iter()
+                .zip(m.triangle_edges())
+                .map(|(t, e)| RowTri::with_edges(t.map(|i| world[i as usize]), e.map(edge))),
+        );
+    }
+
+    /// The first part of [`place`](Self::place): the placed vertices and
+    /// each edge's function.
+    pub(super) fn place_edges(&mut self, m: &MeshSolid, to_world: &DAffine3) {
         self.world.clear();
         self.world
             .extend(m.positions().iter().map(|&p| to_world.transform_point3(p)));
@@ -217,18 +257,31 @@ impl Voxelizer {
                 flips: [flip, !flip | (p == q)],
             }
         }));
-        let edges = &self.edges;
+    }
+
+    /// [`cross_triangles`](Self::cross_triangles) of `m`'s triangles placed
+    /// by [`place_edges`](Self::place_edges), each prepared only if its
+    /// projection's bounds hold a candidate row.
+    fn cross_mesh(&mut self, grid: &Grid, keys: &RowKeys, m: &MeshSolid) -> usize {
+        let Self {
+            world, edges, hits, ..
+        } = self;
         let edge = |k: u32| {
             let e = &edges[(k >> 1) as usize];
             (e.coefficients, e.flips[(k & 1) as usize])
         };
-        self.tris.clear();
-        self.tris.extend(
-            m.triangle_indices()
-                .iter()
-                .zip(m.triangle_edges())
-                .map(|(t, e)| RowTri::with_edges(t.map(|i| world[i as usize]), e.map(edge))),
-        );
+        let mut n = 0;
+        for (t, e) in m.triangle_indices().iter().zip(m.triangle_edges()) {
+            let v = t.map(|i| world[i as usize]);
+            let Some((ys, zs)) = keys.candidates(grid, yz_bounds(v)) else {
+                continue;
+            };
+            let t = RowTri::with_edges(v, e.map(edge));
+            if !t.parallel() {
+                n = keys.rasterize_rows(grid, &t, ys, zs, hits, n);
+            }
+        }
+        n
     }
 
     /// Every placed triangle's crossings with the rows of `keys`, written to
@@ -244,8 +297,11 @@ impl Voxelizer {
     /// Every placed triangle's crossings, as sorted keys in `self.keys`:
     /// counted into their rows, then each row sorted (a whole sort when the
     /// box has far more rows than crossings).
-    pub(super) fn cross_rows(&mut self, grid: &Grid, keys: &RowKeys) {
-        let n = self.cross_triangles(grid, keys);
+    pub(super) fn cross_rows(&mut self, grid: &Grid, keys: &RowKeys, m: Option<&MeshSolid>) {
+        let n = match m {
+            Some(m) => self.cross_mesh(grid, keys, m),
+            None => self.cross_triangles(grid, keys),
+        };
         self.keys.clear();
         self.keys
             .extend(self.hits[..n].iter().map(|&hit| keys.key(grid, hit)));
@@ -291,14 +347,14 @@ impl Voxelizer {
         r: &Rows,
         mut f: impl FnMut(Span),
     ) {
-        self.place(m, to_world);
+        self.place_edges(m, to_world);
         let mut keys = std::mem::take(&mut self.row_keys);
         keys.fill(grid, r);
         let cells = r.x_cells(grid);
         if cells.end - cells.start <= MASK_CELLS {
-            self.mask_spans(grid, &keys, cells, f);
+            self.mask_spans(grid, m, &keys, cells, f);
         } else {
-            self.cross_rows(grid, &keys);
+            self.cross_rows(grid, &keys, Some(m));
             for row in self.keys.chunk_by(|a, b| a >> 32 == b >> 32) {
                 let (y, z) = keys.row_of(row[0]);
                 for pair in row.chunks_exact(2) {
@@ -323,11 +379,12 @@ impl Voxelizer {
     fn mask_spans(
         &mut self,
         grid: &Grid,
+        m: &MeshSolid,
         keys: &RowKeys,
         cells: Range<i64>,
         mut f: impl FnMut(Span),
     ) {
-        let n = self.cross_triangles(grid, keys);
+        let n = self.cross_mesh(grid, keys, m);
         let masks = &mut self.masks;
         masks.clear();
         masks.resize(keys.rows(), [0, 0]);

@@ -104,7 +104,7 @@ impl Voxelizer {
         self.tris.extend(self.cone.iter().map(|&t| RowTri::new(t)));
         let mut keys = std::mem::take(&mut self.row_keys);
         keys.fill(grid, r);
-        self.cross_rows(grid, &keys);
+        self.cross_rows(grid, &keys, None);
         self.clusters.clear();
         cluster(&mut self.cone, 0, &mut self.clusters);
         let x_cells = r.x_cells(grid);
