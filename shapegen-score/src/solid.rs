@@ -146,12 +146,6 @@ impl Convex {
         })
     }
 
-    /// The local bounding box `(lo, hi)` of the mesh's vertices.
-    #[must_use]
-    pub fn bounds(&self) -> (DVec3, DVec3) {
-        self.bounds
-    }
-
     /// Whether `p` satisfies every face plane (closed).
     #[must_use]
     pub fn contains(&self, p: DVec3) -> bool {
