@@ -112,58 +112,41 @@ impl SplitPlanes {
         }
     }
 
-    /// [`convex_row`] on the same planes, with the same result bit for bit:
-    /// every plane evaluated, without a branch (most rows of a slanted
-    /// solid's box miss it after an unpredictable number of planes), the
-    /// start's maximum and the end's minimum taken apart. A maximum or
-    /// minimum is exact in any order, and a NaN `t` (a plane nearly
-    /// parallel to the rows, met exactly) is skipped as `f64::max` skips it.
+    /// [`convex_row`] of `N` rows at once (at `y[i]` and `z`), each plane
+    /// read once for all, with the same results bit for bit: every plane
+    /// evaluated, without a branch (most rows of a slanted solid's box miss
+    /// it after an unpredictable number of planes), the start's maximum
+    /// and the end's minimum taken apart. A maximum or minimum is exact in
+    /// any order, and a NaN `t` (a plane nearly parallel to the rows, met
+    /// exactly) is skipped as `f64::max` skips it.
     #[inline]
-    pub(super) fn row(&self, y: f64, z: f64, len: f64) -> Option<(f64, f64)> {
-        let no = |p: &RowPlane| p.at + y * p.ay + z * p.az;
-        let t = |p: &RowPlane| (p.d - no(p)) * p.inv;
-        let mut a = 0.0f64;
+    pub(super) fn rows<const N: usize>(
+        &self,
+        y: [f64; N],
+        z: f64,
+        len: f64,
+    ) -> [Option<(f64, f64)>; N] {
+        let no = |p: &RowPlane| y.map(|y| p.at + y * p.ay + z * p.az);
+        let t = |p: &RowPlane| no(p).map(|no| (p.d - no) * p.inv);
+        let mut a = [0.0f64; N];
         for p in &self.starts {
-            let t = t(p);
-            a = if t > a { t } else { a };
+            for (a, t) in a.iter_mut().zip(t(p)) {
+                *a = if t > *a { t } else { *a };
+            }
         }
-        let mut b = len;
+        let mut b = [len; N];
         for p in &self.ends {
-            let t = t(p);
-            b = if t < b { t } else { b };
+            for (b, t) in b.iter_mut().zip(t(p)) {
+                *b = if t < *b { t } else { *b };
+            }
         }
-        let outside = self.parallel.iter().fold(false, |o, p| o | (no(p) > p.d));
-        (!outside && a < b).then_some((a, b))
-    }
-
-    /// [`row`](Self::row) of two rows at once (`y[0]` and `y[1]` at `z`),
-    /// each plane read once for both: the same numbers, lane by lane.
-    #[inline]
-    pub(super) fn rows2(&self, y: [f64; 2], z: f64, len: f64) -> [Option<(f64, f64)>; 2] {
-        let no = |p: &RowPlane| [p.at + y[0] * p.ay + z * p.az, p.at + y[1] * p.ay + z * p.az];
-        let t = |p: &RowPlane| {
-            let n = no(p);
-            [(p.d - n[0]) * p.inv, (p.d - n[1]) * p.inv]
-        };
-        let mut a = [0.0f64; 2];
-        for p in &self.starts {
-            let t = t(p);
-            a[0] = if t[0] > a[0] { t[0] } else { a[0] };
-            a[1] = if t[1] > a[1] { t[1] } else { a[1] };
-        }
-        let mut b = [len; 2];
-        for p in &self.ends {
-            let t = t(p);
-            b[0] = if t[0] < b[0] { t[0] } else { b[0] };
-            b[1] = if t[1] < b[1] { t[1] } else { b[1] };
-        }
-        let mut outside = [false; 2];
+        let mut outside = [false; N];
         for p in &self.parallel {
-            let n = no(p);
-            outside[0] |= n[0] > p.d;
-            outside[1] |= n[1] > p.d;
+            for (o, no) in outside.iter_mut().zip(no(p)) {
+                *o |= no > p.d;
+            }
         }
-        [0, 1].map(|i| (!outside[i] && a[i] < b[i]).then_some((a[i], b[i])))
+        std::array::from_fn(|i| (!outside[i] && a[i] < b[i]).then_some((a[i], b[i])))
     }
 }
 
@@ -262,13 +245,14 @@ impl Voxelizer {
             let mut y = r.y.start;
             while y + 1 < r.y.end {
                 let wy = [grid.center_along(1, y), grid.center_along(1, y + 1)];
-                let [first, second] = split.rows2(wy, wz, r.len);
+                let [first, second] = split.rows(wy, wz, r.len);
                 emit(y, first);
                 emit(y + 1, second);
                 y += 2;
             }
             if y < r.y.end {
-                emit(y, split.row(grid.center_along(1, y), wz, r.len));
+                let [row] = split.rows([grid.center_along(1, y)], wz, r.len);
+                emit(y, row);
             }
         }
     }
@@ -315,8 +299,8 @@ mod tests {
             split.take(&planes);
             let bits = |r: Option<(f64, f64)>| r.map(|(a, b)| ((a + 0.0).to_bits(), (b + 0.0).to_bits()));
             let expected = y.map(|y| bits(convex_row(&planes, y, z, len)));
-            prop_assert_eq!(bits(split.row(y[0], z, len)), expected[0]);
-            prop_assert_eq!(split.rows2(y, z, len).map(bits), expected);
+            prop_assert_eq!(bits(split.rows([y[0]], z, len)[0]), expected[0]);
+            prop_assert_eq!(split.rows(y, z, len).map(bits), expected);
         }
     }
 }
