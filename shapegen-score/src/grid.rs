@@ -210,6 +210,8 @@ pub(crate) struct Centres {
     min: f64,
     inv_cell: f64,
     offset: f64,
+    /// How many centres the table holds.
+    len: f64,
 }
 
 impl Centres {
@@ -223,6 +225,7 @@ impl Centres {
         self.centres.clear();
         self.centres
             .extend(range.map(|i| grid.center_along(axis, i)));
+        self.len = self.centres.len() as f64;
     }
 
     /// [`Grid::center_along`] of `i`, which must lie in the range.
@@ -239,11 +242,13 @@ impl Centres {
         let c = &self.centres;
         let g = (x - self.min) * self.inv_cell - self.offset;
         // The grid's own first guess, within the table (NaN fails too).
-        if !(g > 0.0 && g < c.len() as f64) {
+        // Signed conversions: an unsigned one takes several instructions.
+        if !(g > 0.0 && g < self.len) {
             return grid.first_at_or_after(self.axis, x);
         }
         // Rounded up: 1 <= k <= len.
-        let k = g as usize + usize::from(((g as usize) as f64) < g);
+        let t = g as i64;
+        let k = (t + i64::from((t as f64) < g)) as usize;
         // The answer when c[k − 1] < x <= c[k]: almost always, as the guess
         // is off by rounding alone; else (or at the table's end) the grid's
         // exact search.
