@@ -84,7 +84,10 @@ criterion_main!(benches);
 EOF
 printf '\n[[bench]]\nname = "tv"\nharness = false\n' >>"$old/Cargo.toml"
 export SHAPEGEN_DATA=${SHAPEGEN_DATA:-$(pwd)/../shared/data}
+# The bench's own executable (cargo also lists the package's binaries,
+# in no fixed order).
 bin() { cargo bench --no-run --message-format=json "$@" 2>/dev/null |
+    grep '"kind":\["bench"\]' |
     sed -n 's/.*"executable":"\([^"]*\)".*/\1/p' | tail -n1; }
 then_bin=$(cd "$old" && CARGO_TARGET_DIR="$old/target" bin --bench tv)
 now_bin=$(bin --bench score)
