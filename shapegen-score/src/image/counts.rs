@@ -23,7 +23,7 @@ pub struct ImageCounts {
 /// in two parts, and the rasterizer.
 ///
 /// A pixel is covered by the model iff some instance covers it. An
-/// instance drawn (see [`Rasterizer`](crate::Rasterizer)) adds its
+/// instance drawn (see [`Rasterizer`]) adds its
 /// triangles' edges to per-row differences of the model's triangle counts
 /// (a pixel is covered there iff its count is positive); an instance
 /// replayed (see [`add_shape`](Self::add_shape)) adds its runs of covered

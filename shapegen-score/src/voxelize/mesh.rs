@@ -218,6 +218,15 @@ pub(super) struct PlacedEdge {
     flips: [bool; 2],
 }
 
+/// A triangle's edge `k` of [`MeshSolid::triangle_edges`] (the mesh edge
+/// `k >> 1`, run forward or, if `k` is odd, backward): its placed
+/// [`row_edge`] function and flip.
+#[inline]
+fn placed_edge(edges: &[PlacedEdge], k: u32) -> ([f64; 3], bool) {
+    let e = &edges[(k >> 1) as usize];
+    (e.coefficients, e.flips[(k & 1) as usize])
+}
+
 impl Voxelizer {
     /// Places the triangles of `m` in the world: [`RowTri::new`] of each
     /// placed triangle, with each edge's function computed once for the
@@ -225,10 +234,7 @@ impl Voxelizer {
     pub(super) fn place(&mut self, m: &MeshSolid, to_world: &DAffine3) {
         self.place_edges(m, to_world);
         let (world, edges) = (&self.world, &self.edges);
-        let edge = |k: u32| {
-            let e = &edges[(k >> 1) as usize];
-            (e.coefficients, e.flips[(k & 1) as usize])
-        };
+        let edge = |k| placed_edge(edges, k);
         self.tris.clear();
         self.tris.extend(
             m.triangle_indices()
@@ -266,10 +272,7 @@ impl Voxelizer {
         let Self {
             world, edges, hits, ..
         } = self;
-        let edge = |k: u32| {
-            let e = &edges[(k >> 1) as usize];
-            (e.coefficients, e.flips[(k & 1) as usize])
-        };
+        let edge = |k| placed_edge(edges, k);
         let mut n = 0;
         for (t, e) in m.triangle_indices().iter().zip(m.triangle_edges()) {
             let v = t.map(|i| world[i as usize]);
@@ -296,7 +299,10 @@ impl Voxelizer {
 
     /// Every placed triangle's crossings, as sorted keys in `self.keys`:
     /// counted into their rows, then each row sorted (a whole sort when the
-    /// box has far more rows than crossings).
+    /// box has far more rows than crossings). The triangles are `m`'s,
+    /// placed by [`place_edges`](Self::place_edges), if given (see
+    /// [`cross_mesh`](Self::cross_mesh)); else those [`place`](Self::place)
+    /// made, and any added after them.
     pub(super) fn cross_rows(&mut self, grid: &Grid, keys: &RowKeys, m: Option<&MeshSolid>) {
         let n = match m {
             Some(m) => self.cross_mesh(grid, keys, m),
