@@ -289,7 +289,7 @@ impl Voxelizer {
 
     /// Every placed triangle's crossings with the rows of `keys`, written to
     /// `self.hits` (see [`RowKeys::rasterize`]); returns how many.
-    fn cross_triangles(&mut self, grid: &Grid, keys: &RowKeys) -> usize {
+    pub(super) fn cross_triangles(&mut self, grid: &Grid, keys: &RowKeys) -> usize {
         let mut n = 0;
         for t in &self.tris {
             n = keys.rasterize(grid, t, &mut self.hits, n);
@@ -297,17 +297,12 @@ impl Voxelizer {
         n
     }
 
-    /// Every placed triangle's crossings, as sorted keys in `self.keys`:
-    /// counted into their rows, then each row sorted (a whole sort when the
-    /// box has far more rows than crossings). The triangles are `m`'s,
-    /// placed by [`place_edges`](Self::place_edges), if given (see
-    /// [`cross_mesh`](Self::cross_mesh)); else those [`place`](Self::place)
-    /// made, and any added after them.
-    pub(super) fn cross_rows(&mut self, grid: &Grid, keys: &RowKeys, m: Option<&MeshSolid>) {
-        let n = match m {
-            Some(m) => self.cross_mesh(grid, keys, m),
-            None => self.cross_triangles(grid, keys),
-        };
+    /// The first `n` crossings in `self.hits` (from
+    /// [`cross_mesh`](Self::cross_mesh) or
+    /// [`cross_triangles`](Self::cross_triangles)), as sorted keys in
+    /// `self.keys`: counted into their rows, then each row sorted (a whole
+    /// sort when the box has far more rows than crossings).
+    pub(super) fn sort_crossings(&mut self, grid: &Grid, keys: &RowKeys, n: usize) {
         self.keys.clear();
         self.keys
             .extend(self.hits[..n].iter().map(|&hit| keys.key(grid, hit)));
@@ -360,7 +355,8 @@ impl Voxelizer {
         if cells.end - cells.start <= MASK_CELLS {
             self.mask_spans(grid, m, &keys, cells, f);
         } else {
-            self.cross_rows(grid, &keys, Some(m));
+            let n = self.cross_mesh(grid, &keys, m);
+            self.sort_crossings(grid, &keys, n);
             for row in self.keys.chunk_by(|a, b| a >> 32 == b >> 32) {
                 let (y, z) = keys.row_of(row[0]);
                 for pair in row.chunks_exact(2) {

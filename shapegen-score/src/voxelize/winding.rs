@@ -104,7 +104,8 @@ impl Voxelizer {
         self.tris.extend(self.cone.iter().map(|&t| RowTri::new(t)));
         let mut keys = std::mem::take(&mut self.row_keys);
         keys.fill(grid, r);
-        self.cross_rows(grid, &keys, None);
+        let n = self.cross_triangles(grid, &keys);
+        self.sort_crossings(grid, &keys, n);
         self.clusters.clear();
         cluster(&mut self.cone, 0, &mut self.clusters);
         let x_cells = r.x_cells(grid);
