@@ -204,14 +204,6 @@ pub(crate) struct Centres {
     axis: usize,
     start: i64,
     centres: Vec<f64>,
-    /// For the first guess of an index: the grid's `min` and `1 / cell`
-    /// along the axis, and `start + 0.5` (a guess's rounding is checked
-    /// against the table).
-    min: f64,
-    inv_cell: f64,
-    offset: f64,
-    /// How many centres the table holds.
-    len: f64,
 }
 
 impl Centres {
@@ -219,13 +211,9 @@ impl Centres {
     pub(crate) fn fill(&mut self, grid: &Grid, axis: usize, range: std::ops::Range<i64>) {
         self.axis = axis;
         self.start = range.start;
-        self.min = grid.min[axis];
-        self.inv_cell = grid.inv_cell[axis];
-        self.offset = range.start as f64 + 0.5;
         self.centres.clear();
         self.centres
             .extend(range.map(|i| grid.center_along(axis, i)));
-        self.len = self.centres.len() as f64;
     }
 
     /// [`Grid::center_along`] of `i`, which must lie in the range.
@@ -240,10 +228,10 @@ impl Centres {
     #[inline(always)]
     pub(crate) fn first_at_or_after(&self, grid: &Grid, x: f64) -> i64 {
         let c = &self.centres;
-        let g = (x - self.min) * self.inv_cell - self.offset;
+        let g = (x - grid.min[self.axis]) * grid.inv_cell[self.axis] - 0.5 - self.start as f64;
         // The grid's own first guess, within the table (NaN fails too).
         // Signed conversions: an unsigned one takes several instructions.
-        if !(g > 0.0 && g < self.len) {
+        if !(g > 0.0 && g < c.len() as i64 as f64) {
             return grid.first_at_or_after(self.axis, x);
         }
         // Rounded up: 1 <= k <= len.
