@@ -368,6 +368,60 @@ pub struct RowTri {
     yz: [f64; 4],
 }
 
+/// What [`RowTri::line`] takes of a triangle, with the edge functions
+/// borrowed from where they were computed: placing a mesh computes each
+/// edge's once, for the two triangles that share it, and its crossings are
+/// found from these without copying the edges into a [`RowTri`] (the
+/// copies went through the stack in pieces that later loads could not take
+/// from the stores, stalling each triangle).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RowFunctions<'a> {
+    edges: [&'a [f64; 3]; 3],
+    flips: [bool; 3],
+    plane: [f64; 3],
+    nx: f64,
+}
+
+impl<'a> RowFunctions<'a> {
+    /// Of world triangle `v`, whose edges `a → b`, `b → c`, `c → a` have the
+    /// [`row_edge`] coefficients `edges` and flips `flips`.
+    #[inline]
+    pub(crate) fn new(v: [DVec3; 3], edges: [&'a [f64; 3]; 3], flips: [bool; 3]) -> Self {
+        let [a, b, c] = v;
+        let n = (b - a).cross(c - a);
+        Self {
+            edges,
+            flips,
+            plane: [a.x + (n.y * a.y + n.z * a.z) / n.x, -n.z / n.x, -n.y / n.x],
+            nx: n.x,
+        }
+    }
+
+    /// [`RowTri::parallel`].
+    #[inline]
+    pub(crate) fn parallel(&self) -> bool {
+        self.nx == 0.0
+    }
+
+    /// [`RowTri::sign`].
+    #[inline]
+    pub(crate) fn sign(&self) -> f64 {
+        self.nx.signum()
+    }
+
+    /// [`RowTri::line`].
+    #[inline]
+    pub(crate) fn line(&self, z: f64) -> RowLine {
+        let e = |k: usize| [self.edges[k][0] + self.edges[k][1] * z, self.edges[k][2]];
+        RowLine {
+            edges: [e(0), e(1), e(2)],
+            flips: self.flips,
+            plane: [self.plane[0] + self.plane[1] * z, self.plane[2]],
+            crossed: self.nx != 0.0,
+        }
+    }
+}
+
 /// A [`RowTri`] restricted to the row line at one `z`: what every row of
 /// that line needs, computed once.
 #[derive(Clone, Copy, Debug)]
@@ -453,23 +507,33 @@ impl RowTri {
     #[must_use]
     pub fn new(v: [DVec3; 3]) -> Self {
         let [a, b, c] = v;
-        Self::with_edges(v, [row_edge(a, b), row_edge(b, c), row_edge(c, a)])
+        let [(e0, f0), (e1, f1), (e2, f2)] = [row_edge(a, b), row_edge(b, c), row_edge(c, a)];
+        Self::with_edges(v, [&e0, &e1, &e2], [f0, f1, f2])
     }
 
     /// [`new`](Self::new) with the [`row_edge`]s of `a → b`, `b → c` and
     /// `c → a` computed already (placing a mesh shares them between the two
-    /// triangles of each edge).
+    /// triangles of each edge): their coefficients and flips.
     #[inline]
-    pub(crate) fn with_edges(v: [DVec3; 3], edges: [([f64; 3], bool); 3]) -> Self {
-        let [a, b, c] = v;
-        let [(e0, f0), (e1, f1), (e2, f2)] = edges;
-        let n = (b - a).cross(c - a);
+    pub(crate) fn with_edges(v: [DVec3; 3], edges: [&[f64; 3]; 3], flips: [bool; 3]) -> Self {
+        let f = RowFunctions::new(v, edges, flips);
         Self {
-            edges: [e0, e1, e2],
-            flips: [f0, f1, f2],
-            plane: [a.x + (n.y * a.y + n.z * a.z) / n.x, -n.z / n.x, -n.y / n.x],
-            nx: n.x,
+            edges: [*edges[0], *edges[1], *edges[2]],
+            flips,
+            plane: f.plane,
+            nx: f.nx,
             yz: yz_bounds(v),
+        }
+    }
+
+    /// The functions [`line`](Self::line) takes its row line from.
+    #[inline]
+    pub(crate) fn functions(&self) -> RowFunctions<'_> {
+        RowFunctions {
+            edges: [&self.edges[0], &self.edges[1], &self.edges[2]],
+            flips: self.flips,
+            plane: self.plane,
+            nx: self.nx,
         }
     }
 
@@ -496,13 +560,7 @@ impl RowTri {
     #[inline]
     #[must_use]
     pub fn line(&self, z: f64) -> RowLine {
-        let e = |k: usize| [self.edges[k][0] + self.edges[k][1] * z, self.edges[k][2]];
-        RowLine {
-            edges: [e(0), e(1), e(2)],
-            flips: self.flips,
-            plane: [self.plane[0] + self.plane[1] * z, self.plane[2]],
-            crossed: self.nx != 0.0,
-        }
+        self.functions().line(z)
     }
 
     /// The y extent `(lo, hi)` of the projection's cross-section at `z`,

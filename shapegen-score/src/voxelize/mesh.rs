@@ -6,11 +6,11 @@
 
 use std::ops::Range;
 
-use glam::DAffine3;
+use glam::{DAffine3, DVec3};
 
 use super::{Rows, Span, Voxelizer};
 use crate::grid::{Centres, Grid};
-use crate::solid::{MeshSolid, RowTri, row_edge, yz_bounds};
+use crate::solid::{MeshSolid, RowFunctions, RowTri, row_edge};
 
 /// An instance's rows (its box's, within the walkable lattice) and how a
 /// crossing of one of them packs into a sortable `u64`: the row (z-major,
@@ -95,7 +95,10 @@ impl RowKeys {
             return n;
         }
         match self.candidates(grid, t.yz_bounds()) {
-            Some((ys, zs)) => self.rasterize_rows(grid, t, ys, zs, hits, n),
+            Some((ys, zs)) => {
+                let wide = (ys.end - ys.start > SECTION_ROWS).then_some(t);
+                self.rasterize_rows(grid, &t.functions(), wide, ys, zs, hits, n)
+            }
             None => n,
         }
     }
@@ -112,13 +115,35 @@ impl RowKeys {
         (!ys.is_empty() && !zs.is_empty()).then_some((ys, zs))
     }
 
-    /// [`rasterize`](Self::rasterize) over the candidate rows `ys` × `zs`
-    /// of a triangle not parallel to the rows.
+    /// [`candidates`](Self::candidates) of the triangle whose vertices have
+    /// rows `v` (the same rows: see [`VertexRows`]).
     #[inline]
+    fn vertex_candidates(&self, v: [VertexRows; 3]) -> Option<(Range<i64>, Range<i64>)> {
+        let [a, b, c] = v.map(|r| r.0);
+        let between = |i: usize, rows: &Range<i64>| {
+            let start = a[i].min(b[i]).min(c[i]).max(rows.start);
+            start
+                ..a[i + 1]
+                    .max(b[i + 1])
+                    .max(c[i + 1])
+                    .saturating_add(1)
+                    .min(rows.end)
+        };
+        let (ys, zs) = (between(0, &self.y), between(2, &self.z));
+        (ys.start < ys.end && zs.start < zs.end).then_some((ys, zs))
+    }
+
+    /// [`rasterize`](Self::rasterize) over the candidate rows `ys` × `zs`
+    /// of a triangle not parallel to the rows, with functions `t`; `wide`
+    /// is the triangle if it spans more than [`SECTION_ROWS`] rows along y
+    /// (for its cross-sections), else `None`.
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
     fn rasterize_rows(
         &self,
         grid: &Grid,
-        t: &RowTri,
+        t: &RowFunctions,
+        wide: Option<&RowTri>,
         ys: Range<i64>,
         zs: Range<i64>,
         hits: &mut Vec<(u64, f64)>,
@@ -127,16 +152,16 @@ impl RowKeys {
         let sign = u64::from(t.sign() > 0.0);
         for z in zs {
             let cz = grid.center_along(2, z);
-            let ys = if ys.end - ys.start <= SECTION_ROWS {
-                ys.clone()
-            } else {
-                let Some((lo, hi)) = t.y_section(cz) else {
+            let ys = if let Some(wide) = wide {
+                let Some((lo, hi)) = wide.y_section(cz) else {
                     continue;
                 };
                 // One more row on each side: the section's ends are rounded.
                 let r = rows_between(grid, 1, lo, hi);
                 let start = (r.start - 1).max(ys.start);
                 start..(r.end + 1).min(ys.end).max(start)
+            } else {
+                ys.clone()
             };
             let line = t.line(cz);
             let most = n + (ys.end - ys.start) as usize;
@@ -176,14 +201,8 @@ fn clamp(a: Range<i64>, b: &Range<i64>) -> Range<i64> {
 /// candidates change nothing but the work).
 #[inline]
 fn rows_between(grid: &Grid, axis: usize, lo: f64, hi: f64) -> Range<i64> {
-    let (min, inv_cell) = (grid.min()[axis], grid.inv_cell(axis));
     let walk = grid.walkable(axis);
-    // Fractional row index: integers at the centres (by the reciprocal,
-    // within a few ulps of the quotient: far inside the margin below).
-    // Clamped before the conversion, so far or non-finite bounds cannot
-    // overflow.
-    let at = |v: f64| ((v - min) * inv_cell - 0.5).clamp(walk.start as f64 - 1.0, walk.end as f64);
-    let (first, last) = (at(lo) - 1e-6, at(hi) + 1e-6);
+    let (first, last) = (row_at(grid, axis, lo) - 1e-6, row_at(grid, axis, hi) + 1e-6);
     if first.is_nan() || last.is_nan() || first > last {
         return 0..0;
     }
@@ -193,6 +212,49 @@ fn rows_between(grid: &Grid, axis: usize, lo: f64, hi: f64) -> Range<i64> {
     }
     let start = first.max(walk.start);
     start..(last + 1).min(walk.end).max(start)
+}
+
+/// The fractional row index of `v` along `axis`: integers at the centres
+/// (by the reciprocal, within a few ulps of the quotient: far inside the
+/// margin of [`rows_between`]), clamped to one row before and after the
+/// walkable ones before any conversion, so far or non-finite values cannot
+/// overflow. Non-decreasing in `v` (and NaN for NaN).
+#[inline]
+fn row_at(grid: &Grid, axis: usize, v: f64) -> f64 {
+    let walk = grid.walkable(axis);
+    ((v - grid.min()[axis]) * grid.inv_cell(axis) - 0.5)
+        .clamp(walk.start as f64 - 1.0, walk.end as f64)
+}
+
+/// What [`rows_between`] needs of one vertex, along y and then z: the
+/// first row at or after its coordinate and the last at or before (each
+/// widened by the same margin), or `i64::MAX` and `i64::MIN` if it is NaN.
+///
+/// [`rows_between`] rounds its bounds by non-decreasing functions, so a
+/// triangle's rows are those between the least first row and the greatest
+/// last row of its vertices ([`vertex_candidates`]): the same rows, with
+/// the rounding done once a vertex instead of once a triangle. NaN
+/// coordinates are left out as `f64::min` and `max` leave them out of a
+/// triangle's bounds.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct VertexRows([i64; 4]);
+
+impl VertexRows {
+    /// The rows of world vertex `p`.
+    #[inline]
+    pub(super) fn new(grid: &Grid, p: DVec3) -> Self {
+        let ends = |axis: usize, v: f64| {
+            let at = row_at(grid, axis, v);
+            if at.is_nan() {
+                (i64::MAX, i64::MIN)
+            } else {
+                (ceil_small(at - 1e-6), floor_small(at + 1e-6))
+            }
+        };
+        let (y0, y1) = ends(1, p.y);
+        let (z0, z1) = ends(2, p.z);
+        Self([y0, y1, z0, z1])
+    }
 }
 
 /// `v.ceil()` for a finite `v` of magnitude below 2⁵², by truncation:
@@ -218,13 +280,26 @@ pub(super) struct PlacedEdge {
     flips: [bool; 2],
 }
 
-/// A triangle's edge `k` of [`MeshSolid::triangle_edges`] (the mesh edge
-/// `k >> 1`, run forward or, if `k` is odd, backward): its placed
-/// [`row_edge`] function and flip.
+/// A triangle's edges `k` of [`MeshSolid::triangle_edges`] (each the mesh
+/// edge `k >> 1`, run forward or, if `k` is odd, backward): their placed
+/// [`row_edge`] functions and flips, as [`RowTri::with_edges`] takes them.
+/// (Built field by field: arrays of `([f64; 3], bool)` pairs went through
+/// the stack in pieces that the loads could not take from the stores.)
 #[inline]
-fn placed_edge(edges: &[PlacedEdge], k: u32) -> ([f64; 3], bool) {
-    let e = &edges[(k >> 1) as usize];
-    (e.coefficients, e.flips[(k & 1) as usize])
+fn placed_edges(edges: &[PlacedEdge], [k0, k1, k2]: [u32; 3]) -> ([&[f64; 3]; 3], [bool; 3]) {
+    let (e0, e1, e2) = (
+        &edges[(k0 >> 1) as usize],
+        &edges[(k1 >> 1) as usize],
+        &edges[(k2 >> 1) as usize],
+    );
+    (
+        [&e0.coefficients, &e1.coefficients, &e2.coefficients],
+        [
+            e0.flips[(k0 & 1) as usize],
+            e1.flips[(k1 & 1) as usize],
+            e2.flips[(k2 & 1) as usize],
+        ],
+    )
 }
 
 impl Voxelizer {
@@ -234,13 +309,15 @@ impl Voxelizer {
     pub(super) fn place(&mut self, m: &MeshSolid, to_world: &DAffine3) {
         self.place_edges(m, to_world);
         let (world, edges) = (&self.world, &self.edges);
-        let edge = |k| placed_edge(edges, k);
         self.tris.clear();
         self.tris.extend(
             m.triangle_indices()
                 .iter()
                 .zip(m.triangle_edges())
-                .map(|(t, e)| RowTri::with_edges(t.map(|i| world[i as usize]), e.map(edge))),
+                .map(|(t, &e)| {
+                    let (coefficients, flips) = placed_edges(edges, e);
+                    RowTri::with_edges(t.map(|i| world[i as usize]), coefficients, flips)
+                }),
         );
     }
 
@@ -267,21 +344,30 @@ impl Voxelizer {
 
     /// [`cross_triangles`](Self::cross_triangles) of `m`'s triangles placed
     /// by [`place_edges`](Self::place_edges), each prepared only if its
-    /// projection's bounds hold a candidate row.
+    /// projection's bounds hold a candidate row (found from its vertices'
+    /// [`VertexRows`], rounded once a vertex).
     fn cross_mesh(&mut self, grid: &Grid, keys: &RowKeys, m: &MeshSolid) -> usize {
         let Self {
-            world, edges, hits, ..
+            world,
+            vertex_rows,
+            edges,
+            hits,
+            ..
         } = self;
-        let edge = |k| placed_edge(edges, k);
+        vertex_rows.clear();
+        vertex_rows.extend(world.iter().map(|&p| VertexRows::new(grid, p)));
         let mut n = 0;
-        for (t, e) in m.triangle_indices().iter().zip(m.triangle_edges()) {
-            let v = t.map(|i| world[i as usize]);
-            let Some((ys, zs)) = keys.candidates(grid, yz_bounds(v)) else {
+        for (t, &e) in m.triangle_indices().iter().zip(m.triangle_edges()) {
+            let Some((ys, zs)) = keys.vertex_candidates(t.map(|i| vertex_rows[i as usize])) else {
                 continue;
             };
-            let t = RowTri::with_edges(v, e.map(edge));
+            let v = t.map(|i| world[i as usize]);
+            let (coefficients, flips) = placed_edges(edges, e);
+            let t = RowFunctions::new(v, coefficients, flips);
             if !t.parallel() {
-                n = keys.rasterize_rows(grid, &t, ys, zs, hits, n);
+                let wide = (ys.end - ys.start > SECTION_ROWS)
+                    .then(|| RowTri::with_edges(v, coefficients, flips));
+                n = keys.rasterize_rows(grid, &t, wide.as_ref(), ys, zs, hits, n);
             }
         }
         n
@@ -523,6 +609,39 @@ mod tests {
                     prop_assert!(grid.center_along(axis, rows.end - 1) <= hi + grid.cell_size()[axis]);
                 }
             }
+        }
+
+        /// A triangle's candidate rows from its vertices' rows are those
+        /// from its projection's bounds, for vertices near and far, on and
+        /// between centres, and NaN, and for boxes anywhere in the walkable
+        /// lattice.
+        #[test]
+        fn vertex_rows_give_the_same_candidates(
+            n in 1u32..30,
+            coords in prop::collection::vec(prop_oneof![
+                4 => -12.0..12.0f64,
+                4 => (-60i32..60).prop_map(|i| f64::from(i) * 0.25),
+                1 => Just(f64::NAN), 1 => Just(f64::INFINITY), 1 => Just(f64::NEG_INFINITY),
+                1 => Just(1e300), 1 => Just(-0.0)], 6),
+            box_rows in prop::array::uniform4(0.0..1.0f64),
+        ) {
+            let grid = Grid::new(DVec3::splat(-3.0).as_vec3(), DVec3::splat(7.0).as_vec3(), UVec3::splat(n)).unwrap();
+            let sub = |axis: usize, (a, b): (f64, f64)| {
+                let walk = grid.walkable(axis);
+                let len = (walk.end - walk.start) as f64;
+                let (a, b) = (walk.start + (a * len) as i64, walk.start + (b * len) as i64);
+                a.min(b)..a.max(b) + 1
+            };
+            let keys = RowKeys {
+                y: sub(1, (box_rows[0], box_rows[1])),
+                z: sub(2, (box_rows[2], box_rows[3])),
+                ..RowKeys::default()
+            };
+            let v = [0, 1, 2].map(|i| DVec3::new(0.0, coords[2 * i], coords[2 * i + 1]));
+            prop_assert_eq!(
+                keys.vertex_candidates(v.map(|p| VertexRows::new(&grid, p))),
+                keys.candidates(&grid, crate::solid::yz_bounds(v))
+            );
         }
 
         /// Placing a mesh with each edge's function computed once for both

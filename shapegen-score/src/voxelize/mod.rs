@@ -63,6 +63,8 @@ pub struct Voxelizer {
     rows_in: Vec<bool>,
     /// The placed mesh: vertices, then triangles (with any cone).
     world: Vec<DVec3>,
+    /// The placed vertices' candidate rows (see `mesh::VertexRows`).
+    vertex_rows: Vec<mesh::VertexRows>,
     /// The placed mesh's edges (see `mesh::PlacedEdge`).
     edges: Vec<mesh::PlacedEdge>,
     tris: Vec<crate::solid::RowTri>,
