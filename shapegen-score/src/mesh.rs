@@ -32,6 +32,21 @@ fn check_obj_lines(bytes: &[u8]) -> Result<(), String> {
     Ok(())
 }
 
+/// The values at a triangle's three corners `t` (indices into `values`).
+///
+/// Written out element by element: `t.map(|i| values[i as usize])` built
+/// the array through the stack in pieces that the loads right after could
+/// not take from the stores (a stall per triangle, seen in the voxelizer's
+/// and the renderer's profiles).
+#[inline(always)]
+pub(crate) fn corners<T: Copy>(values: &[T], t: [u32; 3]) -> [T; 3] {
+    [
+        values[t[0] as usize],
+        values[t[1] as usize],
+        values[t[2] as usize],
+    ]
+}
+
 /// Where a mesh (e.g. a target in its own units) goes in the world: scaled,
 /// then rotated about x, then y, then z (degrees, right-handed:
 /// counter-clockwise seen from the axis's positive end), then translated;

@@ -41,6 +41,7 @@ pub(crate) use shade::{face_colour, luma};
 
 use crate::camera::Camera;
 use crate::error::ScoreError;
+use crate::mesh::corners;
 use crate::raster::{Edge, View, clip_depth, fill_convex, fill_triangle};
 use crate::shapes::ShapeMeshes;
 use back_faces::FirstHit;
@@ -475,7 +476,7 @@ impl Renderer {
             return Facing::First;
         }
         // The eye's side of the face, in the model's terms.
-        let [a, b, c] = t.map(|i| self.view[i as usize]);
+        let [a, b, c] = corners(&self.view, t);
         let raw = (b - a).cross(c - a) * ctx.turn;
         let (toward, scale2) = if ctx.perspective {
             (-raw.dot(a), a.length_squared())
@@ -493,7 +494,7 @@ impl Renderer {
         }
         // Away from every hole, this face is never the nearest surface
         // (see `back_faces`).
-        let [pa, pb, pc] = t.map(|i| self.pixels[i as usize]);
+        let [pa, pb, pc] = corners(&self.pixels, t);
         let (lo, hi) = (pa.min(pb).min(pc), pa.max(pb).max(pc));
         let seen_through = self
             .holes
@@ -512,7 +513,7 @@ impl Renderer {
         let camera = &ctx.camera;
         let (near, far, perspective) = (camera.near, camera.far, ctx.perspective);
         let in_range = |v: &DVec3| v.z >= near && v.z <= far;
-        let [a, b, c] = t.map(|i| self.view[i as usize]);
+        let [a, b, c] = corners(&self.view, t);
         if ctx.bounds.is_some() {
             // The instance is wholly in the depth range, so the triangle
             // covers only pixels whose centres its vertices' box holds
@@ -521,7 +522,7 @@ impl Renderer {
             // nearer keys (the tiles are as they were before this instance:
             // farthest keys only shrink as faces are drawn, so older tiles
             // are conservative).
-            let [pa, pb, pc] = t.map(|i| self.pixels[i as usize]);
+            let [pa, pb, pc] = corners(&self.pixels, t);
             let Some(centres) = self
                 .gbuffer
                 .centres_in(pa.min(pb).min(pc), pa.max(pb).max(pc))
@@ -552,7 +553,7 @@ impl Renderer {
             drawn += s.c1 - s.c0;
         };
         if in_range(&a) && in_range(&b) && in_range(&c) {
-            let px = t.map(|i| self.pixels[i as usize]);
+            let px = corners(&self.pixels, t);
             fill_triangle(camera, px, &mut f);
         } else {
             self.clip.clear();

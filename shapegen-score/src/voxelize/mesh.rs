@@ -10,6 +10,7 @@ use glam::{DAffine3, DVec3};
 
 use super::{Rows, Span, Voxelizer};
 use crate::grid::{Centres, Grid};
+use crate::mesh::corners;
 use crate::solid::{MeshSolid, RowFunctions, RowTri, row_edge};
 
 /// An instance's rows (its box's, within the walkable lattice) and how a
@@ -316,7 +317,7 @@ impl Voxelizer {
                 .zip(m.triangle_edges())
                 .map(|(t, &e)| {
                     let (coefficients, flips) = placed_edges(edges, e);
-                    RowTri::with_edges(t.map(|i| world[i as usize]), coefficients, flips)
+                    RowTri::with_edges(corners(world, *t), coefficients, flips)
                 }),
         );
     }
@@ -358,10 +359,10 @@ impl Voxelizer {
         vertex_rows.extend(world.iter().map(|&p| VertexRows::new(grid, p)));
         let mut n = 0;
         for (t, &e) in m.triangle_indices().iter().zip(m.triangle_edges()) {
-            let Some((ys, zs)) = keys.vertex_candidates(t.map(|i| vertex_rows[i as usize])) else {
+            let Some((ys, zs)) = keys.vertex_candidates(corners(vertex_rows, *t)) else {
                 continue;
             };
-            let v = t.map(|i| world[i as usize]);
+            let v = corners(world, *t);
             let (coefficients, flips) = placed_edges(edges, e);
             let t = RowFunctions::new(v, coefficients, flips);
             if !t.parallel() {
