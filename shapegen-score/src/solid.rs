@@ -461,16 +461,28 @@ impl RowLine {
 /// The edge function of the triangle edge `p → q` for [`RowTri`]: its
 /// coefficients `[c0, cz, cy]` on the canonical order of the endpoints
 /// (lexicographic in x, y, z), and whether that order runs against `p → q`.
-/// Without a branch: which endpoint comes first is a coin toss.
+///
+/// Without a branch, as which endpoint comes first is a coin toss: the
+/// coefficients on `q → p` are those on `p → q` negated (each a difference
+/// of the same two rounded terms, taken the other way round), so they are
+/// computed on `p → q` and their sign bits flipped when `q` comes first.
+/// They equal the coefficients computed on the canonical order but for the
+/// sign of a zero, which no comparison of an edge function with zero sees.
+/// (Selecting the endpoints instead compiled to a branch.)
 #[inline]
 pub(crate) fn row_edge(p: DVec3, q: DVec3) -> ([f64; 3], bool) {
     // `(p.x, p.y, p.z) < (q.x, q.y, q.z)`, each comparison evaluated.
     let before = (p.x < q.x) | ((p.x == q.x) & ((p.y < q.y) | ((p.y == q.y) & (p.z < q.z))));
-    let (p, q) = (
-        DVec3::select(glam::BVec3::splat(before), p, q),
-        DVec3::select(glam::BVec3::splat(before), q, p),
-    );
-    ([p.y * q.z - p.z * q.y, q.y - p.y, p.z - q.z], !before)
+    let sign = u64::from(!before) << 63;
+    let canonical = |v: f64| f64::from_bits(v.to_bits() ^ sign);
+    (
+        [
+            canonical(p.y * q.z - p.z * q.y),
+            canonical(q.y - p.y),
+            canonical(p.z - q.z),
+        ],
+        !before,
+    )
 }
 
 /// The bounds `[y_lo, y_hi, z_lo, z_hi]` of the projection of triangle
@@ -674,4 +686,50 @@ fn boundary_edges(mesh: &Mesh) -> usize {
         .chunk_by(|x, y| x == y)
         .filter(|run| run.len() == 1)
         .count()
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+    use proptest::prelude::*;
+
+    use super::row_edge;
+
+    /// [`row_edge`] as first written: the endpoints put in canonical order,
+    /// then the coefficients computed on it.
+    fn row_edge_reference(p: DVec3, q: DVec3) -> ([f64; 3], bool) {
+        let before = (p.x, p.y, p.z) < (q.x, q.y, q.z);
+        let (p, q) = if before { (p, q) } else { (q, p) };
+        ([p.y * q.z - p.z * q.y, q.y - p.y, p.z - q.z], !before)
+    }
+
+    fn coordinate() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            (-3i8..4).prop_map(|c| f64::from(c) * 0.5),
+            -1e3..1e3f64,
+            Just(0.0),
+            Just(-0.0),
+        ]
+    }
+
+    proptest! {
+        /// The same coefficients as on the canonical order, but for the
+        /// sign of a zero, and the same flip; on endpoints that share
+        /// coordinates or coincide as well as random ones.
+        #[test]
+        fn row_edge_is_on_the_canonical_order(
+            p in prop::array::uniform3(coordinate()),
+            q in prop::array::uniform3(coordinate()),
+            same in 0usize..4,
+        ) {
+            let (p, mut q) = (DVec3::from(p), DVec3::from(q));
+            for axis in 0..same.min(3) {
+                q[axis] = p[axis];
+            }
+            let (c, flip) = row_edge(p, q);
+            let (r, r_flip) = row_edge_reference(p, q);
+            prop_assert_eq!(flip, r_flip);
+            prop_assert_eq!(c.map(|v| (v + 0.0).to_bits()), r.map(|v| (v + 0.0).to_bits()));
+        }
+    }
 }
