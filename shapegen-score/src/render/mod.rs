@@ -541,7 +541,7 @@ impl Renderer {
         let mut drawn = 0;
         let gbuffer = &mut self.gbuffer;
         let mut f = |s: crate::PixelSpan| {
-            let (index, plane) = *made.get_or_insert_with(|| {
+            let (index, plane) = made.get_or_insert_with(|| {
                 let raw = (b - a).cross(c - a);
                 let plane = Plane::new(raw, [a, b, c], ctx.constants, perspective, near, far);
                 (
@@ -549,7 +549,7 @@ impl Renderer {
                     plane,
                 )
             });
-            gbuffer.span(s, index, &plane);
+            gbuffer.span(s, *index, plane);
             drawn += s.c1 - s.c0;
         };
         if in_range(&a) && in_range(&b) && in_range(&c) {
