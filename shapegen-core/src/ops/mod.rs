@@ -1,5 +1,5 @@
 //! The genetic operators, exactly as the paper defines them: probability-
-//! weighted [`grow`] and [`cut`], [`alter`], subtree [`crossover`], and
+//! weighted [`grow()`] and [`cut()`], [`alter()`], subtree [`crossover()`], and
 //! [`random_individual`]s; and the models made without an optimizer: a
 //! generator's [`default_model`] and [`uncontrolled`] generation.
 //!
@@ -87,11 +87,11 @@ fn check_gene(c: &Chromosome, pos: u32) -> Result<(), OpError> {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Mutation {
-    /// [`grow`].
+    /// [`grow()`].
     Grow,
-    /// [`cut`].
+    /// [`cut()`].
     Cut,
-    /// [`alter`].
+    /// [`alter()`].
     Alter,
 }
 

@@ -37,7 +37,8 @@ impl Candidate {
 /// Evaluation is pure, so the result does not depend on the number of threads.
 ///
 /// Once `stop` is set the remaining evaluations are skipped (NaN): the
-/// caller then drops the generation ([`Progress::abandon`]).
+/// caller then drops the generation
+/// ([`Progress::abandon`](super::progress::Progress::abandon)).
 pub(crate) fn evaluate<F: Fitness>(
     fitness: &F,
     candidates: Vec<Candidate>,

@@ -157,7 +157,8 @@ impl<'o> Progress<'o> {
         self.start.checked_add(left)
     }
 
-    /// The interrupt flag to pass to [`evaluate`].
+    /// The interrupt flag to pass to
+    /// [`evaluate`](super::evaluation::evaluate).
     pub fn stop_flag(&self) -> Option<&AtomicBool> {
         self.interrupt.as_deref()
     }

@@ -42,7 +42,7 @@ pub struct TandemParams {
     #[serde(default)]
     pub first_phase: Option<SmcParams>,
     /// Whether the two sides' shares of the evaluations follow what each
-    /// finds (see [`Balance`](super::Balance)): the side that pushes the best
+    /// finds (see [`super::Balance`]): the side that pushes the best
     /// fitness further per evaluation over an exchange interval leans the
     /// run toward itself, and the other steps only every 2, 4 or 8
     /// generations. Off: both step every generation.

@@ -233,7 +233,7 @@ fn row_at(grid: &Grid, axis: usize, v: f64) -> f64 {
 ///
 /// [`rows_between`] rounds its bounds by non-decreasing functions, so a
 /// triangle's rows are those between the least first row and the greatest
-/// last row of its vertices ([`vertex_candidates`]): the same rows, with
+/// last row of its vertices ([`RowKeys::vertex_candidates`]): the same rows, with
 /// the rounding done once a vertex instead of once a triangle. NaN
 /// coordinates are left out as `f64::min` and `max` leave them out of a
 /// triangle's bounds.
