@@ -98,7 +98,7 @@ impl RowKeys {
         match self.candidates(grid, t.yz_bounds()) {
             Some((ys, zs)) => {
                 let wide = (ys.end - ys.start > SECTION_ROWS).then_some(t);
-                self.rasterize_rows(grid, &t.functions(), wide, ys, zs, hits, n)
+                self.rasterize_rows(grid, &t.functions(), wide, (ys, zs), hits, n)
             }
             None => n,
         }
@@ -139,14 +139,12 @@ impl RowKeys {
     /// is the triangle if it spans more than [`SECTION_ROWS`] rows along y
     /// (for its cross-sections), else `None`.
     #[inline]
-    #[allow(clippy::too_many_arguments)]
     fn rasterize_rows(
         &self,
         grid: &Grid,
         t: &RowFunctions,
         wide: Option<&RowTri>,
-        ys: Range<i64>,
-        zs: Range<i64>,
+        (ys, zs): (Range<i64>, Range<i64>),
         hits: &mut Vec<(u64, f64)>,
         mut n: usize,
     ) -> usize {
@@ -368,7 +366,7 @@ impl Voxelizer {
             if !t.parallel() {
                 let wide = (ys.end - ys.start > SECTION_ROWS)
                     .then(|| RowTri::with_edges(v, coefficients, flips));
-                n = keys.rasterize_rows(grid, &t, wide.as_ref(), ys, zs, hits, n);
+                n = keys.rasterize_rows(grid, &t, wide.as_ref(), (ys, zs), hits, n);
             }
         }
         n
