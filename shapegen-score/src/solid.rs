@@ -417,7 +417,7 @@ impl<'a> RowFunctions<'a> {
             edges: [e(0), e(1), e(2)],
             flips: self.flips,
             plane: [self.plane[0] + self.plane[1] * z, self.plane[2]],
-            crossed: self.nx != 0.0,
+            crossed: !self.parallel(),
         }
     }
 }
@@ -528,10 +528,15 @@ impl RowTri {
     /// triangles of each edge): their coefficients and flips.
     #[inline]
     pub(crate) fn with_edges(v: [DVec3; 3], edges: [&[f64; 3]; 3], flips: [bool; 3]) -> Self {
-        let f = RowFunctions::new(v, edges, flips);
+        Self::with_functions(v, &RowFunctions::new(v, edges, flips))
+    }
+
+    /// The world triangle `v` whose row functions are `f` (made of `v`).
+    #[inline]
+    pub(crate) fn with_functions(v: [DVec3; 3], f: &RowFunctions) -> Self {
         Self {
-            edges: [*edges[0], *edges[1], *edges[2]],
-            flips,
+            edges: [*f.edges[0], *f.edges[1], *f.edges[2]],
+            flips: f.flips,
             plane: f.plane,
             nx: f.nx,
             yz: yz_bounds(v),
@@ -558,14 +563,14 @@ impl RowTri {
     /// Whether the triangle is parallel to the rows (no row crosses it).
     #[must_use]
     pub fn parallel(&self) -> bool {
-        self.nx == 0.0
+        self.functions().parallel()
     }
 
     /// `+1` if a line along +x leaves the triangle's front side (the side
     /// its counter-clockwise normal points to) where it crosses, else `−1`.
     #[must_use]
     pub fn sign(&self) -> f64 {
-        self.nx.signum()
+        self.functions().sign()
     }
 
     /// The triangle on the row line at `z`.

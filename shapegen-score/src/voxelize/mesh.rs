@@ -201,16 +201,26 @@ fn clamp(a: Range<i64>, b: &Range<i64>) -> Range<i64> {
 #[inline]
 fn rows_between(grid: &Grid, axis: usize, lo: f64, hi: f64) -> Range<i64> {
     let walk = grid.walkable(axis);
-    let (first, last) = (row_at(grid, axis, lo) - 1e-6, row_at(grid, axis, hi) + 1e-6);
-    if first.is_nan() || last.is_nan() || first > last {
-        return 0..0;
-    }
-    let (first, last) = (ceil_small(first), floor_small(last));
+    let (first, last) = (row_ends(grid, axis, lo).0, row_ends(grid, axis, hi).1);
     if first > last {
         return 0..0;
     }
     let start = first.max(walk.start);
     start..(last + 1).min(walk.end).max(start)
+}
+
+/// The first row along `axis` at or after `v` and the last at or before
+/// it, each widened by a millionth of a row (both from [`row_at`]), or
+/// `(i64::MAX, i64::MIN)` for a NaN `v`: the rounding of
+/// [`rows_between`]'s bounds, non-decreasing in `v`.
+#[inline]
+fn row_ends(grid: &Grid, axis: usize, v: f64) -> (i64, i64) {
+    let at = row_at(grid, axis, v);
+    if at.is_nan() {
+        (i64::MAX, i64::MIN)
+    } else {
+        (ceil_small(at - 1e-6), floor_small(at + 1e-6))
+    }
 }
 
 /// The fractional row index of `v` along `axis`: integers at the centres
@@ -225,9 +235,8 @@ fn row_at(grid: &Grid, axis: usize, v: f64) -> f64 {
         .clamp(walk.start as f64 - 1.0, walk.end as f64)
 }
 
-/// What [`rows_between`] needs of one vertex, along y and then z: the
-/// first row at or after its coordinate and the last at or before (each
-/// widened by the same margin), or `i64::MAX` and `i64::MIN` if it is NaN.
+/// What [`rows_between`] needs of one vertex: its [`row_ends`] along y,
+/// then along z.
 ///
 /// [`rows_between`] rounds its bounds by non-decreasing functions, so a
 /// triangle's rows are those between the least first row and the greatest
@@ -242,16 +251,8 @@ impl VertexRows {
     /// The rows of world vertex `p`.
     #[inline]
     pub(super) fn new(grid: &Grid, p: DVec3) -> Self {
-        let ends = |axis: usize, v: f64| {
-            let at = row_at(grid, axis, v);
-            if at.is_nan() {
-                (i64::MAX, i64::MIN)
-            } else {
-                (ceil_small(at - 1e-6), floor_small(at + 1e-6))
-            }
-        };
-        let (y0, y1) = ends(1, p.y);
-        let (z0, z1) = ends(2, p.z);
+        let (y0, y1) = row_ends(grid, 1, p.y);
+        let (z0, z1) = row_ends(grid, 2, p.z);
         Self([y0, y1, z0, z1])
     }
 }
@@ -364,8 +365,8 @@ impl Voxelizer {
             let (coefficients, flips) = placed_edges(edges, e);
             let t = RowFunctions::new(v, coefficients, flips);
             if !t.parallel() {
-                let wide = (ys.end - ys.start > SECTION_ROWS)
-                    .then(|| RowTri::with_edges(v, coefficients, flips));
+                let wide =
+                    (ys.end - ys.start > SECTION_ROWS).then(|| RowTri::with_functions(v, &t));
                 n = keys.rasterize_rows(grid, &t, wide.as_ref(), (ys, zs), hits, n);
             }
         }
