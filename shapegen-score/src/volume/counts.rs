@@ -3,6 +3,7 @@
 
 use glam::Affine3A;
 use shapegen_core::express::ShapeId;
+use wide::u8x16;
 
 use super::target::in_grid;
 use super::{OutsideCount, VolumeScene};
@@ -125,7 +126,7 @@ impl Work {
     /// when it is being cached).
     fn voxelize(
         &mut self,
-        mut record: Option<&mut Vec<(u32, u32)>>,
+        record: Option<&mut Vec<(u32, u32)>>,
         scene: &VolumeScene,
         solid: &Solid,
         transform: &Affine3A,
@@ -141,39 +142,73 @@ impl Work {
         if !by_solid {
             counts.outside += aabb_cells_outside(grid, solid, transform);
         }
+        // The runs are kept to reset, then counted all at once.
+        let from = touched.len();
         voxelizer.spans(grid, solid, transform, |s| {
             let cells = in_grid(grid, s);
             if by_solid {
                 counts.outside += (s.x1 - s.x0) as u64 - cells.len() as u64;
             }
-            if cells.is_empty() {
-                return;
+            if !cells.is_empty() {
+                touched.push((cells.start as u32, cells.len() as u32));
             }
-            let run = (cells.start as u32, cells.len() as u32);
-            if let Some(runs) = record.as_deref_mut() {
-                runs.push(run);
-            }
-            count_run(scratch, touched, counts, scene, run);
         });
+        let runs = &touched[from..];
+        if let Some(record) = record {
+            record.extend_from_slice(runs);
+        }
+        count_runs(scratch, counts, scene, runs);
     }
 }
 
-/// Counts the in-grid run `(first cell, length)` of an instance, and keeps
-/// it to reset: the one step that voxelizing and replaying share, so both
-/// give the same counts. `cells` holds [`PAD`] bytes past the grid's.
-fn count_run(
+/// Counts the in-grid runs `(first cell, length)` of an instance (which the
+/// caller keeps to reset): the one step that voxelizing and replaying
+/// share, so both give the same counts. `cells` holds [`PAD`] bytes past
+/// the grid's.
+fn count_runs(
     cells: &mut [u8],
-    touched: &mut Vec<(u32, u32)>,
     counts: &mut VolumeCounts,
     scene: &VolumeScene,
-    (start, len): (u32, u32),
+    runs: &[(u32, u32)],
 ) {
-    let range = start as usize..(start + len) as usize;
-    touched.push((start, len));
-    match scene.weights_of(range.clone()) {
-        None if range.len() <= WORD => count_word(cells, range, counts),
-        weight => count_span(&mut cells[range], weight, counts),
+    match scene.uniform {
+        Some(_) => count_runs_unweighted(cells, counts, runs),
+        None => {
+            for &(start, len) in runs {
+                let range = start as usize..(start + len) as usize;
+                count_span(&mut cells[range.clone()], scene.weights_of(range), counts);
+            }
+        }
     }
+}
+
+/// [`count_span`] without weights of each of `runs`: those at most a
+/// [`WORD`] long a word at a time ([`count_word`]), their sums kept per
+/// lane in bytes over up to 255 runs (so that they stay in registers and
+/// cannot overflow), then added up.
+fn count_runs_unweighted(cells: &mut [u8], counts: &mut VolumeCounts, runs: &[(u32, u32)]) {
+    let (mut first, mut good, mut second, mut words) = (0, 0, 0, 0);
+    for runs in runs.chunks(usize::from(u8::MAX)) {
+        let mut lanes = [u8x16::ZERO; 3];
+        for &(start, len) in runs {
+            let (start, len) = (start as usize, len as usize);
+            if len <= WORD {
+                // Lanes are 0xff where true: subtracting one adds 1 a lane.
+                let hit = count_word(cells, start, len);
+                lanes = [lanes[0] - hit[0], lanes[1] - hit[1], lanes[2] - hit[2]];
+                words += len as u64;
+            } else {
+                count_span(&mut cells[start..start + len], None, counts);
+            }
+        }
+        first += lane_sum(lanes[0]);
+        good += lane_sum(lanes[1]);
+        second += lane_sum(lanes[2]);
+    }
+    counts.good += good;
+    counts.bad += first - good;
+    counts.overlap_cells += second;
+    counts.overlap_hits += words - first;
 }
 
 /// Runs at most this long are counted (and reset) as one 16-byte word.
@@ -183,66 +218,64 @@ const WORD: usize = 16;
 /// that far past its end (those bytes are read and written back unchanged).
 const PAD: usize = WORD;
 
-/// A byte `b` in each of the word's lanes.
-const fn lanes(b: u8) -> u128 {
-    u128::from_ne_bytes([b; WORD])
-}
+/// Per lane, `0xff` in the first `len` lanes of `RUNS[len]`, else `0`.
+const RUNS: [[u8; WORD]; WORD + 1] = {
+    let mut runs = [[0; WORD]; WORD + 1];
+    let mut len = 0;
+    while len <= WORD {
+        let mut i = 0;
+        while i < len {
+            runs[len][i] = 0xff;
+            i += 1;
+        }
+        len += 1;
+    }
+    runs
+};
 
-/// The lanes of the cells `0..len` of a word (little-endian), `1 <= len <= 16`.
+/// The lanes of a run of `len` cells, `0 <= len <=` [`WORD`] (see [`RUNS`]).
 #[inline(always)]
-fn lanes_of(len: usize) -> u128 {
-    u128::MAX >> (8 * (WORD - len))
+fn run_lanes(len: usize) -> u8x16 {
+    u8x16::new(RUNS[len])
 }
 
-/// Bit 7 of each lane of `h` (lanes `< 0x80`) set iff that lane is zero:
-/// `h + 0x7f` carries into bit 7 exactly for the non-zero lanes, and never
-/// out of its lane.
+/// One more hit on each of the `len` cells from `start` of `cells`
+/// (`1 <= len <=` [`WORD`]; `cells` reaches at least [`WORD`] bytes past
+/// `start`), as [`count_cell`] adds one, the 16 bytes from `start` worked
+/// at once and the lanes beyond the run left as they were: the lanes whose
+/// hit was the cell's first, the first on a target cell, and its second
+/// (`0xff` where true).
 #[inline(always)]
-fn zero_lanes(h: u128) -> u128 {
-    !(h + lanes(0x7f)) & lanes(0x80)
-}
-
-/// How many lanes of `m` have bit 7 set (its only bits): the two halves'
-/// flags added lane-wise, then summed by one multiply. `u128::count_ones`
-/// is a library loop on processors without a popcount instruction (the
-/// default x86-64 target).
-#[inline(always)]
-fn flags(m: u128) -> u32 {
-    let m = m >> 7;
-    let lanes = (m as u64) + ((m >> 64) as u64);
-    (lanes.wrapping_mul(0x0101_0101_0101_0101) >> 56) as u32
-}
-
-/// [`count_span`] without weights for the cells `range`, at most [`WORD`]
-/// long, of `cells`, which reach at least [`WORD`] bytes past its start:
-/// the 16 bytes from its start as one little-endian word, every lane worked
-/// at once (as [`count_cell`]: the hit count in the low 7 bits) and the
-/// lanes beyond the run left as they were.
-#[inline]
-fn count_word(cells: &mut [u8], range: std::ops::Range<usize>, counts: &mut VolumeCounts) {
-    let len = range.len();
+fn count_word(cells: &mut [u8], start: usize, len: usize) -> [u8x16; 3] {
     debug_assert!((1..=WORD).contains(&len));
-    let bytes: &mut [u8; WORD] = (&mut cells[range.start..range.start + WORD])
+    let bytes: &mut [u8; WORD] = (&mut cells[start..start + WORD])
         .try_into()
         .expect("a word is 16 bytes");
-    let old = u128::from_le_bytes(*bytes);
-    let run = lanes_of(len);
-    let h = old & lanes(HITS);
-    let first = zero_lanes(h) & run;
-    let second = zero_lanes(h ^ lanes(1)) & run;
-    // 1 in each lane of the run below saturation: `h + 1 <= 0x7f` carries
-    // nothing into the target bit or the next lane.
-    let unsaturated = !zero_lanes(h ^ lanes(HITS)) & lanes(0x80);
-    *bytes = (old + ((unsaturated >> 7) & run)).to_le_bytes();
-    let (first_n, good_n) = (flags(first), flags(first & old));
-    counts.good += u64::from(good_n);
-    counts.bad += u64::from(first_n - good_n);
-    counts.overlap_cells += u64::from(flags(second));
-    counts.overlap_hits += len as u64 - u64::from(first_n);
+    let old = u8x16::new(*bytes);
+    let run = run_lanes(len);
+    let h = old & u8x16::splat(HITS);
+    let first = h.cmp_eq(u8x16::ZERO) & run;
+    let target = (old | u8x16::splat(TARGET)).cmp_eq(old);
+    // One more hit in each lane of the run below saturation.
+    let below = h.cmp_eq(u8x16::splat(HITS)) ^ u8x16::splat(0xff);
+    *bytes = (old + (below & run & u8x16::splat(1))).to_array();
+    [first, first & target, h.cmp_eq(u8x16::splat(1)) & run]
+}
+
+/// The sum of the lanes of `v`: bytes added in pairs, then the four
+/// 16-bit sums of each half by one multiply.
+#[inline]
+fn lane_sum(v: u8x16) -> u64 {
+    let v = u128::from_le_bytes(v.to_array());
+    let half = |x: u64| {
+        let pairs = (x & 0x00ff_00ff_00ff_00ff) + ((x >> 8) & 0x00ff_00ff_00ff_00ff);
+        pairs.wrapping_mul(0x0001_0001_0001_0001) >> 48
+    };
+    half(v as u64) + half((v >> 64) as u64)
 }
 
 /// Clears the hit counts of the run `(start, len)` of `cells` (see
-/// [`count_run`]), keeping the target flags.
+/// [`count_runs`]), keeping the target flags.
 #[inline]
 fn reset_run(cells: &mut [u8], (start, len): (u32, u32)) {
     let (start, len) = (start as usize, len as usize);
@@ -250,7 +283,8 @@ fn reset_run(cells: &mut [u8], (start, len): (u32, u32)) {
         let bytes: &mut [u8; WORD] = (&mut cells[start..start + WORD])
             .try_into()
             .expect("a word is 16 bytes");
-        *bytes = (u128::from_le_bytes(*bytes) & !(lanes(HITS) & lanes_of(len))).to_le_bytes();
+        let keep = run_lanes(len) & u8x16::splat(HITS) ^ u8x16::splat(0xff);
+        *bytes = (u8x16::new(*bytes) & keep).to_array();
     } else {
         for c in &mut cells[start..start + len] {
             *c &= TARGET;
@@ -349,15 +383,8 @@ impl VolumeScratch {
             &mut self.work,
             |work, runs, outside| {
                 work.counts.outside += outside;
-                for &run in runs {
-                    count_run(
-                        &mut work.cells,
-                        &mut work.touched,
-                        &mut work.counts,
-                        scene,
-                        run,
-                    );
-                }
+                work.touched.extend_from_slice(runs);
+                count_runs(&mut work.cells, &mut work.counts, scene, runs);
             },
             |work, runs| {
                 let outside = work.counts.outside;
@@ -489,7 +516,7 @@ mod tests {
             padded.extend([0; PAD]);
             let (mut fast, mut slow) = (padded.clone(), padded);
             let (mut a, mut b) = (VolumeCounts::default(), VolumeCounts::default());
-            count_word(&mut fast, start..start + len, &mut a);
+            count_runs_unweighted(&mut fast, &mut a, &[(start as u32, len as u32)]);
             reference(&mut slow[start..start + len], None, &mut b);
             prop_assert_eq!(&fast, &slow);
             prop_assert_eq!(a, b);
@@ -500,11 +527,49 @@ mod tests {
             }
         }
 
-        /// [`flags`] counts the set bits of any lanes' bit 7.
+        /// [`lane_sum`] adds the lanes of any vector.
         #[test]
-        fn flags_count_bit_seven(m in any::<u128>()) {
-            let m = m & lanes(0x80);
-            prop_assert_eq!(flags(m), m.count_ones());
+        fn lane_sum_adds_every_lane(v in any::<[u8; WORD]>()) {
+            let sum: u64 = v.iter().map(|&b| u64::from(b)).sum();
+            prop_assert_eq!(lane_sum(u8x16::new(v)), sum);
+        }
+
+        /// Many runs, counted at once, equal the reference run by run, on
+        /// cells hit up to saturation: runs of at most a word (more than
+        /// a byte's worth, so a lane may take more first hits than a byte
+        /// holds and the sums must be taken on the way) and longer ones.
+        #[test]
+        fn runs_counted_at_once_match_the_reference(
+            cells in proptest::collection::vec(
+                prop_oneof![3 => prop_oneof![Just(0), Just(TARGET)], 1 => cell()],
+                1..6000,
+            ),
+            runs in proptest::collection::vec(
+                (
+                    any::<proptest::sample::Index>(),
+                    prop_oneof![6 => 1..=4usize, 3 => 1..=WORD, 1 => 1..100usize],
+                ),
+                0..1500,
+            ),
+        ) {
+            let mut padded = cells.clone();
+            padded.extend([0; PAD]);
+            let (mut fast, mut slow) = (padded.clone(), padded);
+            let (mut a, mut b) = (VolumeCounts::default(), VolumeCounts::default());
+            let runs: Vec<(u32, u32)> = runs
+                .into_iter()
+                .map(|(at, len)| {
+                    let start = at.index(cells.len());
+                    (start as u32, len.min(cells.len() - start) as u32)
+                })
+                .collect();
+            for &(start, len) in &runs {
+                let (start, len) = (start as usize, len as usize);
+                reference(&mut slow[start..start + len], None, &mut b);
+            }
+            count_runs_unweighted(&mut fast, &mut a, &runs);
+            prop_assert_eq!(fast, slow);
+            prop_assert_eq!(a, b);
         }
 
         /// The chunked count equals the reference on spans across several
