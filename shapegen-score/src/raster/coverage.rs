@@ -77,7 +77,11 @@ impl Coverage {
             let words = &mut self.bits[base + w0 as usize..=base + w1 as usize];
             let n = words.len();
             words[0] |= first;
-            words[1..n - 1].fill(u64::MAX);
+            // Word by word: most runs cover a word or two, and `fill`
+            // called the library's memset for every one, even when empty.
+            for w in &mut words[1..n - 1] {
+                *w = u64::MAX;
+            }
             words[n - 1] |= last;
         }
     }
