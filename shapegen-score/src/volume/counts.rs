@@ -283,7 +283,7 @@ fn reset_run(cells: &mut [u8], (start, len): (u32, u32)) {
         let bytes: &mut [u8; WORD] = (&mut cells[start..start + WORD])
             .try_into()
             .expect("a word is 16 bytes");
-        let keep = run_lanes(len) & u8x16::splat(HITS) ^ u8x16::splat(0xff);
+        let keep = (run_lanes(len) & u8x16::splat(HITS)) ^ u8x16::splat(0xff);
         *bytes = (u8x16::new(*bytes) & keep).to_array();
     } else {
         for c in &mut cells[start..start + len] {
