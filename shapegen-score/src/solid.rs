@@ -16,7 +16,7 @@ use std::collections::HashMap;
 use glam::DVec3;
 
 use crate::error::ScoreError;
-use crate::mesh::Mesh;
+use crate::mesh::{Mesh, corners};
 
 /// A mesh prepared for line queries.
 #[derive(Clone, Debug)]
@@ -122,7 +122,7 @@ impl Convex {
         let eps = 1e-6 * (hi - lo).max_element().max(1e-12);
         let mut planes: Vec<(DVec3, f64)> = Vec::new();
         for t in &mesh.triangles {
-            let [a, b, c] = t.map(|i| pts[i as usize]);
+            let [a, b, c] = corners(&pts, *t);
             let n = (b - a).cross(c - a);
             if n.length() <= 1e-12 * (hi - lo).max_element().powi(2) {
                 continue; // degenerate triangle
@@ -317,9 +317,7 @@ impl MeshSolid {
 
     /// The triangles, in the local frame.
     pub fn triangles(&self) -> impl ExactSizeIterator<Item = [DVec3; 3]> + '_ {
-        self.triangles
-            .iter()
-            .map(|t| t.map(|i| self.positions[i as usize]))
+        self.triangles.iter().map(|t| corners(&self.positions, *t))
     }
 
     /// The distinct edges `[i, j]` (`i < j`) of the triangles.

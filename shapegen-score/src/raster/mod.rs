@@ -519,7 +519,7 @@ pub(crate) mod tests {
         for tri in &shape.triangles {
             fill_triangle(
                 camera,
-                tri.map(|i| pixels[i as usize]),
+                crate::mesh::corners(&pixels, *tri),
                 &mut paint(&mut out, camera.width),
             );
         }

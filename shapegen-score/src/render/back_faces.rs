@@ -38,6 +38,8 @@ use std::collections::HashMap;
 use glam::DVec3;
 use robust::{Coord, Coord3D, orient2d, orient3d};
 
+use crate::mesh::corners;
+
 /// From which side of a face `[a, b, c]` (its normal `(b − a) × (c − a)`
 /// pointing to `Plus`) a ray from outside the mesh's hull can meet it first.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -265,7 +267,7 @@ fn cut_faces(points: &[DVec3], tris: &[[u32; 3]], only_uncut: bool) -> Option<Ve
     let boxes: Vec<(DVec3, DVec3)> = tris
         .iter()
         .map(|t| {
-            let [a, b, c] = t.map(|i| points[i as usize]);
+            let [a, b, c] = corners(points, *t);
             (a.min(b).min(c), a.max(b).max(c))
         })
         .collect();
