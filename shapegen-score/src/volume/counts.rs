@@ -171,12 +171,18 @@ fn count_runs(
     scene: &VolumeScene,
     runs: &[(u32, u32)],
 ) {
+    // Weights that depend on target membership alone are added by the
+    // caller (`add_weight`); others are summed cell by cell.
     match scene.uniform {
         Some(_) => count_runs_unweighted(cells, counts, runs),
         None => {
             for &(start, len) in runs {
                 let range = start as usize..(start + len) as usize;
-                count_span(&mut cells[range.clone()], scene.weights_of(range), counts);
+                count_span(
+                    &mut cells[range.clone()],
+                    Some(&scene.weight[range]),
+                    counts,
+                );
             }
         }
     }
@@ -184,8 +190,8 @@ fn count_runs(
 
 /// [`count_span`] without weights of each of `runs`: those at most a
 /// [`WORD`] long a word at a time ([`count_word`]), their sums kept per
-/// lane in bytes over up to 255 runs (so that they stay in registers and
-/// cannot overflow), then added up.
+/// lane in bytes over up to 255 runs (a lane gains at most one a run, so
+/// a byte cannot overflow), then added up.
 fn count_runs_unweighted(cells: &mut [u8], counts: &mut VolumeCounts, runs: &[(u32, u32)]) {
     let (mut first, mut good, mut second, mut words) = (0, 0, 0, 0);
     for runs in runs.chunks(usize::from(u8::MAX)) {

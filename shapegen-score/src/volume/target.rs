@@ -64,17 +64,6 @@ pub struct VolumeScene {
 }
 
 impl VolumeScene {
-    /// The weights of `cells` (linear indices) when they differ from cell
-    /// to cell, or `None` when they depend on target membership alone
-    /// (`uniform`).
-    #[inline]
-    pub(super) fn weights_of(&self, cells: std::ops::Range<usize>) -> Option<&[f32]> {
-        match self.uniform {
-            Some(_) => None,
-            None => Some(&self.weight[cells]),
-        }
-    }
-
     /// Voxelizes `targets` over `grid` and combines them; each target is
     /// reported on its own by [`quality`](Self::quality). A target that
     /// covers no cell centre is an error that says why
