@@ -20,8 +20,8 @@ pub struct Grid {
 
 impl Grid {
     /// The most cells a grid may have (2^27 = 512³): a scene keeps about
-    /// 0.8 GB of weights for it (1.9 GB while it is built, see
-    /// `VolumeScene::bytes_needed`), plus 134 MB per worker thread's scratch.
+    /// 0.7 GB of weights and flags for it (see `VolumeScene::bytes_needed`),
+    /// plus 134 MB per worker thread's scratch.
     /// Experiments also check a grid against the memory the machine has.
     pub const MAX_CELLS: u64 = 1 << 27;
 

@@ -186,6 +186,94 @@ proptest! {
     }
 }
 
+/// A weight for [`scene_matches_the_targets_reference_cells`]: whole,
+/// halves and tenths (whose sums depend on their order in `f64`).
+fn weight() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        (-3i32..4).prop_map(f64::from),
+        (-30i32..31).prop_map(|i| f64::from(i) / 10.0),
+        Just(0.5)
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    /// A scene's weights, target flags and per-group target cells equal a
+    /// cell-by-cell combination of its targets' reference cells: each
+    /// cell's weight summed over the targets in order in `f64`, then
+    /// rounded to `f32`. Targets are placed cubes, star prisms and open
+    /// boxes (parity), some reaching beyond the grid, in one to three
+    /// groups.
+    #[test]
+    fn scene_matches_the_targets_reference_cells(
+        parts in proptest::collection::vec(
+            (placement(0.3..3.0, Vec3::new(-3.0, -2.0, -3.0), Vec3::splat(3.0)), 0u8..3, weight(), weight()),
+            1..5,
+        ),
+        cut in 0usize..5,
+    ) {
+        let grid = grid();
+        let targets: Vec<VolumeTarget> = parts
+            .iter()
+            .enumerate()
+            .map(|(k, (t, kind, fill, outside))| {
+                let mut mesh = match kind {
+                    0 => Mesh::unit_cube(),
+                    1 => crate::common::star_prism(),
+                    _ => crate::common::open_box(),
+                };
+                for p in &mut mesh.positions {
+                    *p = t.transform_point3(*p);
+                }
+                VolumeTarget { name: format!("part {k}"), mesh, fill: *fill, outside: *outside, inside: Default::default() }
+            })
+            .collect();
+        // One group, or two split at `cut`, or one per target.
+        let n = targets.len();
+        let groups: Vec<std::ops::Range<usize>> = match cut {
+            0 => std::iter::once(0..n).collect(),
+            c if c < n => vec![0..c, c..n],
+            _ => (0..n).map(|k| k..k + 1).collect(),
+        };
+        let Ok(scene) = VolumeScene::new_grouped(grid, &targets, &groups) else {
+            // A group that covers no cell: checked elsewhere.
+            return Ok(());
+        };
+        let cells: Vec<std::collections::HashSet<usize>> = targets
+            .iter()
+            .map(|t| {
+                let solid = Solid::new(&t.name, &t.mesh).unwrap();
+                reference::cells_by_parity(&grid, &solid, &Affine3A::IDENTITY)
+                    .into_iter()
+                    .filter(|c| grid.contains(*c))
+                    .map(|c| grid.index(c.as_uvec3()))
+                    .collect()
+            })
+            .collect();
+        for i in 0..grid.len() {
+            let mut w = 0.0f64;
+            for (t, c) in targets.iter().zip(&cells) {
+                w += if c.contains(&i) { t.fill } else { t.outside };
+            }
+            prop_assert_eq!(scene.weights()[i].to_bits(), (w as f32).to_bits(), "cell {}", i);
+            prop_assert_eq!(scene.is_target(i), cells.iter().any(|c| c.contains(&i)), "cell {}", i);
+        }
+        // Per group, its cells: the share of a model covering the whole
+        // grid that lies in the group.
+        let mut scratch = VolumeScratch::new(&scene);
+        scratch.begin();
+        let all = Solid::new("all", &Mesh::unit_cube()).unwrap();
+        scratch.add(&scene, &all, &Affine3A::from_scale(Vec3::splat(10.0)));
+        let quality = scene.quality(&scratch);
+        prop_assert_eq!(quality.len(), groups.len());
+        for (q, g) in quality.iter().zip(&groups) {
+            let union: std::collections::HashSet<usize> = cells[g.clone()].iter().flatten().copied().collect();
+            prop_assert_eq!((q.precision * q.model as f64).round() as usize, union.len());
+        }
+    }
+}
+
 #[test]
 fn the_target_itself_scores_the_optimum() {
     let scene = scene();

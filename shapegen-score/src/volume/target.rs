@@ -96,20 +96,14 @@ impl VolumeScene {
                 targets.len()
             )));
         }
-        let n = grid.len();
-        let mut weight = vec![0.0f64; n];
-        let mut target = vec![false; n];
-        let mut inside = vec![false; n];
         let mut warnings = Vec::new();
         let mut vox = Voxelizer::new();
-        let mut members: Vec<Vec<bool>> = if groups.len() > 1 {
-            vec![vec![false; n]; groups.len()]
-        } else {
-            Vec::new()
-        };
-        // Per target: why it covers no cell (`None` if it covers some).
+        // Per target: its cells in the grid, as runs of linear indices in
+        // increasing order (each within one row), and why it covers no
+        // cell (`None` if it covers some).
+        let mut runs: Vec<Vec<std::ops::Range<usize>>> = Vec::with_capacity(targets.len());
         let mut empty: Vec<Option<String>> = Vec::new();
-        for (k, t) in targets.iter().enumerate() {
+        for t in targets {
             if !t.fill.is_finite() || !t.outside.is_finite() {
                 return Err(ScoreError::Target(format!(
                     "target `{}` has a non-finite weight",
@@ -127,30 +121,18 @@ impl VolumeScene {
                     m.boundary_edges()
                 ));
             }
-            inside.fill(false);
             // One target's spans never overlap (each row's crossings in pairs).
-            let mut cells = 0u64;
+            let mut own = Vec::new();
             vox.spans(&grid, &solid, &Affine3A::IDENTITY, |s| {
                 let span = in_grid(&grid, s);
-                cells += span.len() as u64;
-                inside[span].fill(true);
+                if !span.is_empty() {
+                    own.push(span);
+                }
             });
-            if cells == 0 {
-                empty.push(Some(empty_target(&grid, t, &solid)));
-            } else {
-                empty.push(None);
-            }
-            for ((w, tg), &ins) in weight.iter_mut().zip(target.iter_mut()).zip(&inside) {
-                *w += if ins { t.fill } else { t.outside };
-                *tg |= ins;
-            }
-            if let Some(g) = groups.iter().position(|g| g.contains(&k))
-                && let Some(member) = members.get_mut(g)
-            {
-                member.iter_mut().zip(&inside).for_each(|(m, &i)| *m |= i);
-            }
+            own.sort_unstable_by_key(|r| r.start);
+            empty.push(own.is_empty().then(|| empty_target(&grid, t, &solid)));
+            runs.push(own);
         }
-        let target_cells = target.iter().filter(|&&t| t).count() as u64;
         // A group that covers no cell is a mistake; one empty part of a
         // group that does (below the grid's resolution) is a warning.
         if let Some(g) = groups
@@ -164,7 +146,8 @@ impl VolumeScene {
             });
         }
         warnings.extend(empty.iter().flatten().cloned());
-        let weight: Vec<f32> = weight.into_iter().map(|w| w as f32).collect();
+        let (weight, target, members) = combine(&grid, targets, groups, &runs);
+        let target_cells = target.iter().filter(|&&t| t).count() as u64;
         let uniform = uniform_weights(&weight, &target);
         Ok(Self {
             grid,
@@ -179,13 +162,13 @@ impl VolumeScene {
         })
     }
 
-    /// The most memory building a scene over `grid` with `groups` groups of
-    /// targets takes (bytes, at its peak: the weights in `f64` while they
-    /// are summed, the kept `f32` weights, target and per-group flags), for
-    /// checks before a large grid is allocated.
+    /// The memory a scene over `grid` with `groups` groups of targets
+    /// keeps (bytes: the `f32` weights, target and per-group flags), for
+    /// checks before a large grid is allocated. Building it takes little
+    /// more: the targets' runs of cells, summed one row at a time.
     #[must_use]
     pub fn bytes_needed(grid: &Grid, groups: usize) -> u64 {
-        let per_cell = 8 + 4 + 1 + 1 + if groups > 1 { groups as u64 } else { 0 };
+        let per_cell = 4 + 1 + if groups > 1 { groups as u64 } else { 0 };
         grid.len() as u64 * per_cell
     }
 
@@ -260,6 +243,60 @@ impl VolumeScene {
     pub fn is_target(&self, i: usize) -> bool {
         self.target[i]
     }
+}
+
+/// The weight `C` of every cell (summed over `targets` in order, in
+/// `f64`, then rounded to `f32`), whether it is inside some target, and,
+/// for two or more `groups`, whether it is inside one of each group's
+/// targets: from each target's `runs` of cells (see
+/// [`VolumeScene::new_grouped`]), one row of the grid at a time, so that
+/// only the kept arrays span the grid.
+fn combine(
+    grid: &Grid,
+    targets: &[VolumeTarget],
+    groups: &[std::ops::Range<usize>],
+    runs: &[Vec<std::ops::Range<usize>>],
+) -> (Vec<f32>, Vec<bool>, Vec<Vec<bool>>) {
+    let (n, row) = (grid.len(), grid.dims().x as usize);
+    let mut weight = Vec::with_capacity(n);
+    let mut target = Vec::with_capacity(n);
+    let mut members: Vec<Vec<bool>> = if groups.len() > 1 {
+        vec![Vec::with_capacity(n); groups.len()]
+    } else {
+        Vec::new()
+    };
+    let group_of: Vec<Option<usize>> = (0..targets.len())
+        .map(|k| groups.iter().position(|g| g.contains(&k)))
+        .collect();
+    let (mut sum, mut inside, mut any) = (vec![0.0f64; row], vec![false; row], vec![false; row]);
+    let mut member = vec![vec![false; row]; members.len()];
+    let mut next = vec![0; runs.len()];
+    for start in (0..n).step_by(row.max(1)) {
+        let end = start + row;
+        sum.fill(0.0);
+        any.fill(false);
+        member.iter_mut().for_each(|m| m.fill(false));
+        for (k, t) in targets.iter().enumerate() {
+            inside.fill(false);
+            while let Some(r) = runs[k].get(next[k]).filter(|r| r.start < end) {
+                inside[r.start - start..r.end - start].fill(true);
+                next[k] += 1;
+            }
+            for ((w, a), &i) in sum.iter_mut().zip(any.iter_mut()).zip(&inside) {
+                *w += if i { t.fill } else { t.outside };
+                *a |= i;
+            }
+            if let Some(m) = group_of[k].and_then(|g| member.get_mut(g)) {
+                m.iter_mut().zip(&inside).for_each(|(m, &i)| *m |= i);
+            }
+        }
+        weight.extend(sum.iter().map(|&w| w as f32));
+        target.extend_from_slice(&any);
+        for (all, m) in members.iter_mut().zip(&member) {
+            all.extend_from_slice(m);
+        }
+    }
+    (weight, target, members)
 }
 
 /// `(w_target, w_other)` if every target cell has weight `w_target` and
