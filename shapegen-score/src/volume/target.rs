@@ -260,11 +260,10 @@ fn combine(
     let (n, row) = (grid.len(), grid.dims().x as usize);
     let mut weight = Vec::with_capacity(n);
     let mut target = Vec::with_capacity(n);
-    let mut members: Vec<Vec<bool>> = if groups.len() > 1 {
-        vec![Vec::with_capacity(n); groups.len()]
-    } else {
-        Vec::new()
-    };
+    // (Not `vec![Vec::with_capacity(n); k]`: a clone of an empty vector
+    // keeps none of its capacity.)
+    let groups_kept = if groups.len() > 1 { groups.len() } else { 0 };
+    let mut members: Vec<Vec<bool>> = (0..groups_kept).map(|_| Vec::with_capacity(n)).collect();
     let group_of: Vec<Option<usize>> = (0..targets.len())
         .map(|k| groups.iter().position(|g| g.contains(&k)))
         .collect();
