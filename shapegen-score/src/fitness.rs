@@ -44,6 +44,11 @@ pub trait Scene: Sync {
     fn scratch(&self) -> Self::Scratch;
     /// Clears the working memory for a new model.
     fn begin(scratch: &mut Self::Scratch);
+    /// Forgets what `scratch` remembers of the models it scored (the
+    /// instances it would replay), keeping its memory: the models that
+    /// follow are scored as if never seen. A scene that remembers nothing
+    /// has nothing to do.
+    fn forget(_scratch: &mut Self::Scratch) {}
     /// Adds one instance of `shape`, the fitness's shape number `id` (a
     /// scratch belongs to the fitness that made it, so a scene may remember
     /// what it did for an `id` and transform).
@@ -172,6 +177,21 @@ impl<G: Generator, S: Scene> ModelFitness<G, S> {
         };
         self.generator.express_with(chromosome, &mut sink, pending);
         self.scene.counts(inner)
+    }
+}
+
+impl<G, S> ModelFitness<G, S>
+where
+    G: Generator,
+    G::State: Send,
+    S: Scene,
+{
+    /// Forgets what `scratch` remembers of the models it scored, keeping
+    /// its memory ([`Scene::forget`]): to time models never seen without
+    /// timing a new scratch's first use of its memory, or to start over
+    /// after the meshes changed.
+    pub fn forget(&self, scratch: &mut <Self as Fitness>::Scratch) {
+        S::forget(&mut scratch.0);
     }
 }
 

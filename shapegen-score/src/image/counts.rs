@@ -139,6 +139,13 @@ impl ImageScratch {
         self.work.layers.iter_mut().for_each(Layers::clear);
     }
 
+    /// Forgets the instances remembered for [`add_shape`](Self::add_shape),
+    /// keeping the memory: the instances that follow are drawn as if never
+    /// seen.
+    pub fn forget(&mut self) {
+        self.cache.clear();
+    }
+
     /// Adds one instance, seen by each of `targets` (those the scratch was
     /// made for; others are taken in, at the cost of preparing them).
     pub fn add(&mut self, targets: &[ImageTarget], shape: &RasterShape, transform: &Affine3A) {

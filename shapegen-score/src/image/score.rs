@@ -118,6 +118,9 @@ impl Scene for ImageTargets {
     fn begin(scratch: &mut ImageScratch) {
         scratch.begin();
     }
+    fn forget(scratch: &mut ImageScratch) {
+        scratch.forget();
+    }
     fn add(
         &self,
         scratch: &mut ImageScratch,

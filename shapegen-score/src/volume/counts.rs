@@ -364,6 +364,13 @@ impl VolumeScratch {
         self.work.counts = VolumeCounts::default();
     }
 
+    /// Forgets the instances remembered for [`add_shape`](Self::add_shape),
+    /// keeping the memory: the instances that follow are voxelized as if
+    /// never seen.
+    pub fn forget(&mut self) {
+        self.cache.clear();
+    }
+
     /// Adds one instance of `solid`, placed by `transform`.
     pub fn add(&mut self, scene: &VolumeScene, solid: &Solid, transform: &Affine3A) {
         let (good, bad) = (self.work.counts.good, self.work.counts.bad);
@@ -504,6 +511,30 @@ mod tests {
         // Three distinct instances were added: a cache that never started
         // over would hold them all.
         assert!(cached.cache.len() < 3, "the cache never filled up");
+    }
+
+    /// A scratch that forgets remembers no instance and counts the next
+    /// model as a fresh scratch does.
+    #[test]
+    fn a_scratch_that_forgets_voxelizes_again() {
+        use glam::Vec3;
+        let grid = Grid::new(Vec3::splat(-2.0), Vec3::splat(2.0), glam::UVec3::splat(16)).unwrap();
+        let scene = VolumeScene::new(grid, &[]).unwrap();
+        let solid = Solid::new("cube", &crate::mesh::Mesh::unit_cube()).unwrap();
+        let at = Affine3A::from_scale(Vec3::splat(1.7));
+        let mut scratch = VolumeScratch::new(&scene);
+        scratch.begin();
+        scratch.add_shape(&scene, 0, &solid, &at);
+        assert_eq!(scratch.cache.len(), 1);
+        scratch.forget();
+        assert_eq!(scratch.cache.len(), 0);
+        scratch.begin();
+        scratch.add_shape(&scene, 0, &solid, &at);
+        let mut fresh = VolumeScratch::new(&scene);
+        fresh.add(&scene, &solid, &at);
+        assert_eq!(scratch.counts(), fresh.counts());
+        assert_eq!(scratch.hits(), fresh.hits());
+        assert_eq!(scratch.cache.len(), 1);
     }
 
     proptest! {

@@ -111,6 +111,9 @@ impl Scene for VolumeScene {
     fn begin(scratch: &mut VolumeScratch) {
         scratch.begin();
     }
+    fn forget(scratch: &mut VolumeScratch) {
+        scratch.forget();
+    }
     fn add(&self, scratch: &mut VolumeScratch, id: ShapeId, shape: &Solid, transform: &Affine3A) {
         scratch.add_shape(self, id, shape, transform);
     }
