@@ -14,6 +14,7 @@
 
 use std::hint::black_box;
 use std::path::PathBuf;
+use std::time::{Duration, Instant};
 
 use criterion::{BatchSize, BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use shapegen::express::Generator;
@@ -26,7 +27,7 @@ use shapegen::scenes::{Spaceship, TreeV1, TreeV2};
 use shapegen::score::Camera;
 use shapegen::score::ImageTarget;
 use shapegen::score::ShapeMeshes;
-use shapegen::score::{Grid, Inside, Mesh};
+use shapegen::score::{Grid, Inside, Mesh, ModelFitness, Scene};
 use shapegen::score::{ImageFitness, ImageScore, ImageTargets, VolumeFitness, VolumeScore};
 use shapegen::score::{VolumeScene, VolumeTarget};
 
@@ -168,30 +169,43 @@ fn tree_volume_fitness(target: &str, n: u32, good: f64, bad: f64) -> Option<Volu
 }
 
 /// Benchmarks evaluating every one of `models` in turn on one thread, with
-/// one scratch (as one worker thread does), made afresh for each iteration
-/// (not timed): a scratch remembers the instances it voxelized or drew
-/// (for image scenes, those of leaf-sized shapes), and these benches
-/// measure scoring models it has not seen.
-fn bench_models<F: Fitness>(
+/// one scratch (as one worker thread does) that forgets, before each
+/// iteration (not timed), the instances it remembers: a scratch replays
+/// the instances it voxelized or drew (for image scenes, those of
+/// leaf-sized shapes), and these benches measure scoring models it has
+/// not seen. The scratch keeps its memory: a new one each iteration would
+/// time its first writes to memory too (the cache's pages faulted in,
+/// its vectors regrown), a cost a worker thread pays once a run, and one
+/// that varied with what the allocator had kept from earlier allocations.
+fn bench_models<G, S>(
     c: &mut Criterion,
     group: &str,
     name: &str,
-    fitness: &F,
+    fitness: &ModelFitness<G, S>,
     models: &[Chromosome],
-) {
+) where
+    G: Generator,
+    G::State: Send,
+    S: Scene,
+{
     let mut group = c.benchmark_group(group);
     group.throughput(Throughput::Elements(models.len() as u64));
+    let mut scratch = fitness.scratch();
     group.bench_function(name, |b| {
-        b.iter_batched_ref(
-            || fitness.scratch(),
-            |scratch| {
-                models
+        b.iter_custom(|iterations| {
+            let mut total = Duration::ZERO;
+            for _ in 0..iterations {
+                fitness.forget(&mut scratch);
+                let start = Instant::now();
+                let sum: f64 = models
                     .iter()
-                    .map(|m| fitness.evaluate(m, scratch))
-                    .sum::<f64>()
-            },
-            BatchSize::LargeInput,
-        )
+                    .map(|m| fitness.evaluate(m, &mut scratch))
+                    .sum();
+                total += start.elapsed();
+                black_box(sum);
+            }
+            total
+        })
     });
     group.finish();
 }

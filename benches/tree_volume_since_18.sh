@@ -11,7 +11,10 @@
 # `tree_volume/(avoid_50_trees_150|fill_50_trees_100)` in benches/score.rs
 # (same scenes, same trees: `random_individual` of tree v1 from stream 5,
 # l0 150) and prints its trees' genes and the sum of their scores, then
-# criterion's times for both builds. The same bench on today's code gave
+# criterion's times for both builds. Both time models their scratch has
+# not seen, not its first writes to memory: that code's scratch remembers
+# no instances and is made afresh (untimed) for each iteration; today's
+# forgets its instances before each one and keeps its memory. The same bench on today's code gave
 # the same trees and sums, bit for bit (7,675 genes; 20.218020922 and
 # -92.117574983): the voxelizer changed its speed, not its results.
 # Needs ../shared/data (or $SHAPEGEN_DATA). Not run in CI.
