@@ -123,6 +123,12 @@ impl Voxelizer {
                     next += 1;
                 }
                 let crossings = &self.keys[first..next];
+                // A row far from every cluster is decided by its crossings
+                // alone (see `row_slack`).
+                let by_crossings = !x_cells.is_empty() && {
+                    let ends = [x_cells.start, x_cells.end - 1].map(|x| grid.center_along(0, x));
+                    row_slack(&self.clusters, ends, wy, wz).is_some_and(|s| s < 0.5)
+                };
                 let (mut k, mut count) = (0, 0.0);
                 let mut open = None;
                 for x in x_cells.clone() {
@@ -130,8 +136,12 @@ impl Voxelizer {
                         count += RowKeys::sign_of(crossings[k]);
                         k += 1;
                     }
-                    let p = DVec3::new(grid.center_along(0, x), wy, wz);
-                    let inside = decide(-count, &self.cone, &self.clusters, p);
+                    let inside = if by_crossings {
+                        count != 0.0
+                    } else {
+                        let p = DVec3::new(grid.center_along(0, x), wy, wz);
+                        decide(-count, &self.cone, &self.clusters, p)
+                    };
                     match (inside, open) {
                         (true, None) => open = Some(x),
                         (false, Some(x0)) => {
@@ -155,6 +165,53 @@ impl Voxelizer {
     }
 }
 
+/// Whether a cluster is far from a point at squared distance `d_sq` from
+/// its centre: then its solid angle there is bounded by [`far_bound`].
+#[inline]
+fn is_far(c: &Cluster, d_sq: f64) -> bool {
+    d_sq > c.radius_sq * 1.000_001
+}
+
+/// The bound on `|Ω / 4π|` of far cluster `c` at squared distance `d_sq`
+/// (module docs). Every step is monotone, so in floating point too a
+/// larger `d_sq` never gives a larger bound.
+#[inline]
+fn far_bound(c: &Cluster, d_sq: f64) -> f64 {
+    let n = c.tris.len() as f64;
+    let gap = d_sq.sqrt() - c.radius;
+    let cap = n / 2.0 * (1.0 - (1.0 - c.radius_sq / d_sq).sqrt());
+    cap.min(c.area / (gap * gap))
+}
+
+/// The summed bounds widened for their own rounding, far below any tie the
+/// tests allow.
+#[inline]
+fn widened(slack: f64) -> f64 {
+    slack * (1.0 + 1e-9) + 1e-12
+}
+
+/// The cone's bound for every cell of a row at once: the row's cell
+/// centres run from `x[0]` to `x[1]` at `(y, z)`; `None` if a cluster is
+/// near some of them. Each cluster's distance is taken to the nearest
+/// point of that segment, at most its distance to any centre (the same
+/// squared differences, each no larger), so the bound holds for every cell
+/// and is at least the one [`decide`] sums there. When it is below ½, every
+/// cell's `|w|` is its crossings' count within less than ½ of it, and
+/// `decide` concludes from its bounds exactly as the count alone does:
+/// inside iff the count is not 0.
+fn row_slack(clusters: &[Cluster], x: [f64; 2], y: f64, z: f64) -> Option<f64> {
+    let mut slack = 0.0;
+    for c in clusters {
+        let nearest = DVec3::new(c.centre.x.clamp(x[0], x[1]), y, z);
+        let d_sq = nearest.distance_squared(c.centre);
+        if !is_far(c, d_sq) {
+            return None;
+        }
+        slack += far_bound(c, d_sq);
+    }
+    Some(widened(slack))
+}
+
 /// Whether `|base − Σ_cone Ω(p) / 4π| ≥ ½`, summing the solid angles of
 /// the clusters near `p` and bounding the far ones (module docs).
 fn decide(base: f64, cone: &[[DVec3; 3]], clusters: &[Cluster], p: DVec3) -> bool {
@@ -163,11 +220,8 @@ fn decide(base: f64, cone: &[[DVec3; 3]], clusters: &[Cluster], p: DVec3) -> boo
     let mut far = false;
     for c in clusters {
         let d_sq = p.distance_squared(c.centre);
-        if d_sq > c.radius_sq * 1.000_001 {
-            let n = c.tris.len() as f64;
-            let gap = d_sq.sqrt() - c.radius;
-            let cap = n / 2.0 * (1.0 - (1.0 - c.radius_sq / d_sq).sqrt());
-            slack += cap.min(c.area / (gap * gap));
+        if is_far(c, d_sq) {
+            slack += far_bound(c, d_sq);
             far = true;
         } else {
             w -= cone[c.tris.clone()]
@@ -177,8 +231,7 @@ fn decide(base: f64, cone: &[[DVec3; 3]], clusters: &[Cluster], p: DVec3) -> boo
                 / quarter_turns;
         }
     }
-    // Rounding of the bounds themselves, far below any tie the tests allow.
-    let slack = slack * (1.0 + 1e-9) + 1e-12;
+    let slack = widened(slack);
     if !far {
         return w.abs() >= 0.5;
     }
@@ -189,7 +242,7 @@ fn decide(base: f64, cone: &[[DVec3; 3]], clusters: &[Cluster], p: DVec3) -> boo
         return false;
     }
     for c in clusters {
-        if p.distance_squared(c.centre) > c.radius_sq * 1.000_001 {
+        if is_far(c, p.distance_squared(c.centre)) {
             w -= cone[c.tris.clone()]
                 .iter()
                 .map(|t| solid_angle(t, p))
@@ -198,4 +251,85 @@ fn decide(base: f64, cone: &[[DVec3; 3]], clusters: &[Cluster], p: DVec3) -> boo
         }
     }
     w.abs() >= 0.5
+}
+
+#[cfg(test)]
+mod tests {
+    use proptest::prelude::*;
+
+    use super::*;
+
+    /// A coordinate on a coarse lattice or anywhere (clusters touching the
+    /// rows, rows through cluster centres).
+    fn coordinate() -> impl Strategy<Value = f64> {
+        prop_oneof![(-6i32..7).prop_map(|i| f64::from(i) / 2.0), -3.0..3.0f64]
+    }
+
+    /// A UV sphere of radius `r` around `c` (`n` segments, `n` rings):
+    /// from inside, its solid angle is a whole turn, though every cluster
+    /// of its triangles may be far.
+    fn sphere(c: DVec3, r: f64, n: usize) -> Vec<[DVec3; 3]> {
+        let at = |i: usize, j: usize| {
+            let (theta, phi) = (
+                std::f64::consts::PI * i as f64 / n as f64,
+                std::f64::consts::TAU * j as f64 / n as f64,
+            );
+            c + r * DVec3::new(
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            )
+        };
+        let mut tris = Vec::new();
+        for i in 0..n {
+            for j in 0..n {
+                let (a, b, cc, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+                tris.push([a, b, cc]);
+                tris.push([a, cc, d]);
+            }
+        }
+        tris
+    }
+
+    proptest! {
+        /// Where `row_slack` decides a row by its crossings, `decide`
+        /// gives every cell of it the same answer for any crossing count:
+        /// inside iff the count is not 0. Cones are random triangles at
+        /// several scales, or spheres around a point of the row (whose
+        /// whole turn no far cluster's bound may leave out).
+        #[test]
+        fn rows_decided_by_crossings_agree_with_decide(
+            cone in prop::collection::vec(prop::array::uniform3(prop::array::uniform3(coordinate())), 1..40),
+            ends in prop::array::uniform2(coordinate()),
+            (y, z) in (coordinate(), coordinate()),
+            scale in prop_oneof![Just(1.0), Just(0.05), 0.01..1.0f64],
+            around in prop::option::of((0.0..1.0f64, 0.1..2.0f64, 16usize..24)),
+            cells in 1usize..12,
+        ) {
+            let (x0, x1) = (ends[0].min(ends[1]), ends[0].max(ends[1]));
+            let mut cone: Vec<[DVec3; 3]> = match around {
+                // Far wider than the row, so that the row is inside it,
+                // far from its clusters (of eight triangles: a sphere of
+                // 2·16² triangles has 64 or more).
+                Some((t, r, n)) => sphere(DVec3::new(x0 + t * (x1 - x0), y, z), 3.0 * (x1 - x0) + r, n),
+                None => cone.iter().map(|t| t.map(|p| DVec3::from(p) * scale)).collect(),
+            };
+            let mut clusters = Vec::new();
+            cluster(&mut cone, 0, &mut clusters);
+            let Some(slack) = row_slack(&clusters, [x0, x1], y, z) else {
+                return Ok(());
+            };
+            if slack >= 0.5 {
+                return Ok(());
+            }
+            for i in 0..cells {
+                let t = if cells == 1 { 0.0 } else { i as f64 / (cells - 1) as f64 };
+                let x = (x0 + t * (x1 - x0)).clamp(x0, x1);
+                for count in [-2.0, -1.0, 0.0, 1.0, 2.0f64] {
+                    let p = DVec3::new(x, y, z);
+                    prop_assert_eq!(decide(-count, &cone, &clusters, p), count != 0.0);
+                }
+            }
+        }
+    }
 }
