@@ -24,6 +24,64 @@ pub(super) fn farthest_squared(points: impl Iterator<Item = DVec3>, center: DVec
         .fold(0.0, f64::max)
 }
 
+/// The points that may be the farthest from any point within `reach` of
+/// `base`, in their order: those at least `m − 2·reach` from `base`, where
+/// `m` is the greatest distance from it (less a margin for rounding). From
+/// a point `c` within `reach` of `base`, the point at `m` is at least
+/// `m − reach` away and every point left out less than that, so the
+/// farthest point from `c` (the last of the greatest, as `Iterator::max_by`
+/// takes it) is the same among the shell's points as among all.
+#[derive(Clone, Debug, Default)]
+struct Shell {
+    base: Option<DVec3>,
+    points: Vec<DVec3>,
+}
+
+impl Shell {
+    /// The farthest of `points` from `from` (`from` itself for none), with
+    /// the shell taken around `from` again if it lies beyond `reach` of
+    /// the last base.
+    fn farthest(&mut self, points: &[DVec3], from: DVec3, reach: f64) -> DVec3 {
+        if self.base.is_none_or(|b| !(b.distance(from) <= reach)) {
+            self.take(points, from, reach);
+        }
+        farthest_of(&self.points, from)
+    }
+
+    /// Takes the shell of `points` around `base` for `reach`: every point
+    /// when the bounds are not finite (no point left out then).
+    fn take(&mut self, points: &[DVec3], base: DVec3, reach: f64) {
+        self.base = Some(base);
+        self.points.clear();
+        let m = farthest_squared(points.iter().copied(), base).sqrt();
+        let keep = m - 2.0 * reach - 1e-9 * (m + reach);
+        if !(keep.is_finite() && keep > 0.0) {
+            self.points.extend_from_slice(points);
+            return;
+        }
+        let keep2 = keep * keep;
+        // `!(d < keep2)`: a NaN distance is kept, as `max_by` may pick it.
+        self.points.extend(
+            points
+                .iter()
+                .filter(|p| !(p.distance_squared(base) < keep2)),
+        );
+    }
+}
+
+/// The farthest of `points` from `from` (the last of the greatest
+/// distances), or `from` itself for none.
+fn farthest_of(points: &[DVec3], from: DVec3) -> DVec3 {
+    points
+        .iter()
+        .copied()
+        .max_by(|a, b| {
+            a.distance_squared(from)
+                .total_cmp(&b.distance_squared(from))
+        })
+        .unwrap_or(from)
+}
+
 impl BoundingSphere {
     /// A small sphere around `points` (all finite): Ritter's construction,
     /// then passes that move the centre toward the farthest point while
@@ -42,18 +100,8 @@ impl BoundingSphere {
     /// same centre (the farthest point from anywhere is such a vertex).
     pub(crate) fn fit_center(points: &[DVec3]) -> Option<DVec3> {
         let first = *points.first()?;
-        let farthest = |from: DVec3| {
-            points
-                .iter()
-                .copied()
-                .max_by(|a, b| {
-                    a.distance_squared(from)
-                        .total_cmp(&b.distance_squared(from))
-                })
-                .unwrap_or(from)
-        };
-        let a = farthest(first);
-        let b = farthest(a);
+        let a = farthest_of(points, first);
+        let b = farthest_of(points, a);
         let mut center = 0.5 * (a + b);
         let mut radius = 0.5 * a.distance(b);
         for p in points {
@@ -68,12 +116,16 @@ impl BoundingSphere {
         // Shrink: step toward the farthest point and keep the smaller
         // sphere that still holds everything.
         // The farthest point from the centre changes only with the centre:
-        // a kept candidate's farthest point is the next one's.
+        // a kept candidate's farthest point is the next one's. Each is
+        // found among the points of a shell that holds every point that
+        // can be farthest from it (see `Shell`).
+        let mut shell = Shell::default();
+        let reach = 0.06 * radius;
         let mut step = 0.5;
-        let mut far = farthest(center);
+        let mut far = shell.farthest(points, center, reach);
         for _ in 0..24 {
             let candidate = center + step * 0.1 * (far - center);
-            let far_from_candidate = farthest(candidate);
+            let far_from_candidate = shell.farthest(points, candidate, reach);
             let r = far_from_candidate.distance(candidate);
             if r < radius {
                 center = candidate;
@@ -226,5 +278,91 @@ pub fn frame_tightly(camera: &Camera, gbuffer: &GBuffer, margin: f64) -> Camera 
         out
     } else {
         *camera
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+    use proptest::prelude::*;
+
+    use super::BoundingSphere;
+
+    /// [`BoundingSphere::fit_center`] as first written: every pass over
+    /// every point.
+    fn fit_center_reference(points: &[DVec3]) -> Option<DVec3> {
+        let first = *points.first()?;
+        let farthest = |from: DVec3| {
+            points
+                .iter()
+                .copied()
+                .max_by(|a, b| {
+                    a.distance_squared(from)
+                        .total_cmp(&b.distance_squared(from))
+                })
+                .unwrap_or(from)
+        };
+        let a = farthest(first);
+        let b = farthest(a);
+        let mut center = 0.5 * (a + b);
+        let mut radius = 0.5 * a.distance(b);
+        for p in points {
+            let d = p.distance(center);
+            if d > radius {
+                let grown = 0.5 * (radius + d);
+                center += (d - grown) / d * (*p - center);
+                radius = grown;
+            }
+        }
+        let mut step = 0.5;
+        let mut far = farthest(center);
+        for _ in 0..24 {
+            let candidate = center + step * 0.1 * (far - center);
+            let far_from_candidate = farthest(candidate);
+            let r = far_from_candidate.distance(candidate);
+            if r < radius {
+                center = candidate;
+                radius = r;
+                far = far_from_candidate;
+            } else {
+                step *= 0.5;
+            }
+        }
+        Some(center)
+    }
+
+    /// Points in a ball, on a sphere's surface, on a segment, on a lattice
+    /// (many equal distances) or all in one place, far from the origin or
+    /// not.
+    fn cloud() -> impl Strategy<Value = Vec<DVec3>> {
+        let point = || prop::array::uniform3(-1.0..1.0f64).prop_map(DVec3::from);
+        (
+            prop::collection::vec(point(), 0..300),
+            0u8..5,
+            prop_oneof![Just(0.0), -100.0..100.0f64],
+            prop_oneof![Just(1.0), 1e-3..1e3f64],
+        )
+            .prop_map(|(ps, kind, offset, scale)| {
+                ps.into_iter()
+                    .map(|p| match kind {
+                        0 => p,
+                        1 => p.normalize_or_zero(),
+                        2 => DVec3::new(p.x, 0.0, 0.0),
+                        3 => (p * 3.0).round(),
+                        _ => DVec3::ZERO,
+                    })
+                    .map(|p| p * scale + DVec3::splat(offset))
+                    .collect()
+            })
+    }
+
+    proptest! {
+        /// The same centre, bit for bit, as passing over every point.
+        #[test]
+        fn fit_center_equals_the_reference(points in cloud()) {
+            let fast = BoundingSphere::fit_center(&points).map(|c| c.to_array().map(f64::to_bits));
+            let slow = fit_center_reference(&points).map(|c| c.to_array().map(f64::to_bits));
+            prop_assert_eq!(fast, slow);
+        }
     }
 }
