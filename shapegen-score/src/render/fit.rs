@@ -2,6 +2,8 @@
 //! "the camera is always placed at the distance where the model's minimal
 //! bounding sphere fits tightly into the frustum").
 
+use std::cmp::Ordering;
+
 use glam::DVec3;
 
 use super::GBuffer;
@@ -42,7 +44,12 @@ impl Shell {
     /// the shell taken around `from` again if it lies beyond `reach` of
     /// the last base.
     fn farthest(&mut self, points: &[DVec3], from: DVec3, reach: f64) -> DVec3 {
-        if self.base.is_none_or(|b| !(b.distance(from) <= reach)) {
+        let within = |b: DVec3| {
+            b.distance(from)
+                .partial_cmp(&reach)
+                .is_some_and(Ordering::is_le)
+        };
+        if !self.base.is_some_and(within) {
             self.take(points, from, reach);
         }
         farthest_of(&self.points, from)
@@ -60,12 +67,10 @@ impl Shell {
             return;
         }
         let keep2 = keep * keep;
-        // `!(d < keep2)`: a NaN distance is kept, as `max_by` may pick it.
-        self.points.extend(
-            points
-                .iter()
-                .filter(|p| !(p.distance_squared(base) < keep2)),
-        );
+        // A NaN distance is kept, as `max_by` may pick it.
+        let kept =
+            |p: &&DVec3| p.distance_squared(base).partial_cmp(&keep2) != Some(Ordering::Less);
+        self.points.extend(points.iter().filter(kept));
     }
 }
 
@@ -80,6 +85,49 @@ fn farthest_of(points: &[DVec3], from: DVec3) -> DVec3 {
                 .total_cmp(&b.distance_squared(from))
         })
         .unwrap_or(from)
+}
+
+/// Ritter's sphere around `points`: centre and radius, or `None` for no
+/// points.
+fn ritter(points: &[DVec3]) -> Option<(DVec3, f64)> {
+    let first = *points.first()?;
+    let a = farthest_of(points, first);
+    let b = farthest_of(points, a);
+    let mut center = 0.5 * (a + b);
+    let mut radius = 0.5 * a.distance(b);
+    for p in points {
+        let d = p.distance(center);
+        if d > radius {
+            // Grow to hold p, keeping the far side where it was.
+            let grown = 0.5 * (radius + d);
+            center += (d - grown) / d * (*p - center);
+            radius = grown;
+        }
+    }
+    Some((center, radius))
+}
+
+/// The centre after 24 steps from `center` toward the farthest point,
+/// each kept if the sphere that still holds everything is smaller than
+/// `radius` so far; `farthest(c)` is the farthest point from `c`. The
+/// farthest point from the centre changes only with the centre: a kept
+/// candidate's farthest point is the next one's.
+fn shrink(mut center: DVec3, mut radius: f64, mut farthest: impl FnMut(DVec3) -> DVec3) -> DVec3 {
+    let mut step = 0.5;
+    let mut far = farthest(center);
+    for _ in 0..24 {
+        let candidate = center + step * 0.1 * (far - center);
+        let far_from_candidate = farthest(candidate);
+        let r = far_from_candidate.distance(candidate);
+        if r < radius {
+            center = candidate;
+            radius = r;
+            far = far_from_candidate;
+        } else {
+            step *= 0.5;
+        }
+    }
+    center
 }
 
 impl BoundingSphere {
@@ -99,43 +147,14 @@ impl BoundingSphere {
     /// subset that holds the points' convex hull's vertices gives about the
     /// same centre (the farthest point from anywhere is such a vertex).
     pub(crate) fn fit_center(points: &[DVec3]) -> Option<DVec3> {
-        let first = *points.first()?;
-        let a = farthest_of(points, first);
-        let b = farthest_of(points, a);
-        let mut center = 0.5 * (a + b);
-        let mut radius = 0.5 * a.distance(b);
-        for p in points {
-            let d = p.distance(center);
-            if d > radius {
-                // Grow to hold p, keeping the far side where it was.
-                let grown = 0.5 * (radius + d);
-                center += (d - grown) / d * (*p - center);
-                radius = grown;
-            }
-        }
-        // Shrink: step toward the farthest point and keep the smaller
-        // sphere that still holds everything.
-        // The farthest point from the centre changes only with the centre:
-        // a kept candidate's farthest point is the next one's. Each is
-        // found among the points of a shell that holds every point that
-        // can be farthest from it (see `Shell`).
+        let (center, radius) = ritter(points)?;
+        // Each farthest point is found among the points of a shell that
+        // holds every point that can be farthest from it (see `Shell`).
         let mut shell = Shell::default();
         let reach = 0.06 * radius;
-        let mut step = 0.5;
-        let mut far = shell.farthest(points, center, reach);
-        for _ in 0..24 {
-            let candidate = center + step * 0.1 * (far - center);
-            let far_from_candidate = shell.farthest(points, candidate, reach);
-            let r = far_from_candidate.distance(candidate);
-            if r < radius {
-                center = candidate;
-                radius = r;
-                far = far_from_candidate;
-            } else {
-                step *= 0.5;
-            }
-        }
-        Some(center)
+        Some(shrink(center, radius, |from| {
+            shell.farthest(points, from, reach)
+        }))
     }
 
     /// The sphere about `center` with `radius`, made positive: a single
@@ -286,49 +305,13 @@ mod tests {
     use glam::DVec3;
     use proptest::prelude::*;
 
-    use super::BoundingSphere;
+    use super::{BoundingSphere, farthest_of, ritter, shrink};
 
-    /// [`BoundingSphere::fit_center`] as first written: every pass over
-    /// every point.
+    /// [`BoundingSphere::fit_center`] as first written: every shrinking
+    /// step looks at every point.
     fn fit_center_reference(points: &[DVec3]) -> Option<DVec3> {
-        let first = *points.first()?;
-        let farthest = |from: DVec3| {
-            points
-                .iter()
-                .copied()
-                .max_by(|a, b| {
-                    a.distance_squared(from)
-                        .total_cmp(&b.distance_squared(from))
-                })
-                .unwrap_or(from)
-        };
-        let a = farthest(first);
-        let b = farthest(a);
-        let mut center = 0.5 * (a + b);
-        let mut radius = 0.5 * a.distance(b);
-        for p in points {
-            let d = p.distance(center);
-            if d > radius {
-                let grown = 0.5 * (radius + d);
-                center += (d - grown) / d * (*p - center);
-                radius = grown;
-            }
-        }
-        let mut step = 0.5;
-        let mut far = farthest(center);
-        for _ in 0..24 {
-            let candidate = center + step * 0.1 * (far - center);
-            let far_from_candidate = farthest(candidate);
-            let r = far_from_candidate.distance(candidate);
-            if r < radius {
-                center = candidate;
-                radius = r;
-                far = far_from_candidate;
-            } else {
-                step *= 0.5;
-            }
-        }
-        Some(center)
+        let (center, radius) = ritter(points)?;
+        Some(shrink(center, radius, |from| farthest_of(points, from)))
     }
 
     /// Points in a ball, on a sphere's surface, on a segment, on a lattice
