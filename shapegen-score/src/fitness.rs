@@ -178,19 +178,12 @@ impl<G: Generator, S: Scene> ModelFitness<G, S> {
         self.generator.express_with(chromosome, &mut sink, pending);
         self.scene.counts(inner)
     }
-}
 
-impl<G, S> ModelFitness<G, S>
-where
-    G: Generator,
-    G::State: Send,
-    S: Scene,
-{
     /// Forgets what `scratch` remembers of the models it scored, keeping
     /// its memory ([`Scene::forget`]): to time models never seen without
     /// timing a new scratch's first use of its memory, or to start over
     /// after the meshes changed.
-    pub fn forget(&self, scratch: &mut <Self as Fitness>::Scratch) {
+    pub fn forget(&self, scratch: &mut (S::Scratch, Pending<G::State>)) {
         S::forget(&mut scratch.0);
     }
 }
