@@ -267,10 +267,25 @@ fn http(addr: SocketAddr, method: &str, path: &str, body: &str) -> (u16, String)
     let mut stream = TcpStream::connect(addr).unwrap();
     write!(
         stream,
-        "{method} {path} HTTP/1.1\r\nHost: localhost\r\nContent-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+        "{method} {path} HTTP/1.1\r\nHost: {addr}\r\nOrigin: http://{addr}\r\nContent-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
         body.len()
     )
     .unwrap();
+    answer(stream)
+}
+
+/// Sends `raw` as it is; the response's status and body.
+fn raw(addr: SocketAddr, raw: &[u8]) -> (u16, String) {
+    let mut stream = TcpStream::connect(addr).unwrap();
+    stream.write_all(raw).unwrap();
+    answer(stream)
+}
+
+/// Reads a response to its end: status and body.
+fn answer(mut stream: TcpStream) -> (u16, String) {
+    stream
+        .set_read_timeout(Some(std::time::Duration::from_secs(30)))
+        .unwrap();
     let mut bytes = Vec::new();
     stream.read_to_end(&mut bytes).unwrap_or_default();
     let text = String::from_utf8_lossy(&bytes);
@@ -425,4 +440,189 @@ fn the_page_in_a_headless_browser() {
     let saved: Value =
         serde_json::from_slice(&std::fs::read(dir.join("session.json")).unwrap()).unwrap();
     assert_eq!(saved["factors"][0]["scored"].as_array().unwrap().len(), 24);
+}
+
+/// The session file's bytes.
+fn saved(dir: &Path) -> Vec<u8> {
+    std::fs::read(dir.join("session.json")).unwrap()
+}
+
+/// Finding 1 of the hostile sweep (#54): a body length far past the limit
+/// is refused before anything is read or allocated, and the server lives on.
+#[test]
+fn a_huge_declared_body_is_refused_and_the_server_lives_on() {
+    let dir = TempDir::new("server", "huge");
+    let (addr, stop, handle) = spawn(&dir);
+    for length in ["99999999999", "18446744073709551615", "1048577"] {
+        let (code, body) = raw(
+            addr,
+            format!(
+                "POST /api/score HTTP/1.1\r\nHost: {addr}\r\nOrigin: http://{addr}\r\nContent-Type: application/json\r\nContent-Length: {length}\r\n\r\n{{"
+            )
+            .as_bytes(),
+        );
+        assert!(code == 413 || code == 400, "{length}: {code} {body}");
+    }
+    // Chunked bodies (of any announced size) are refused, not read.
+    let (code, _) = raw(
+        addr,
+        format!("POST /api/score HTTP/1.1\r\nHost: {addr}\r\nOrigin: http://{addr}\r\nContent-Type: application/json\r\nTransfer-Encoding: chunked\r\n\r\nffffffffffffffff\r\n").as_bytes(),
+    );
+    assert_eq!(code, 411);
+    assert_eq!(http(addr, "GET", "/api/state", "").0, 200, "still serving");
+    stop.store(true, Ordering::SeqCst);
+    handle.join().unwrap();
+}
+
+/// Finding 2: pages of other origins, and names rebound to 127.0.0.1,
+/// neither change nor read the session.
+#[test]
+fn other_origins_and_foreign_hosts_are_refused() {
+    let dir = TempDir::new("server", "origin");
+    let (addr, stop, handle) = spawn(&dir);
+    let before = saved(&dir);
+    let sample = r#"{"mode": "default", "count": 4}"#;
+    let post = |headers: &str| {
+        raw(
+            addr,
+            format!(
+                "POST /api/sample HTTP/1.1\r\n{headers}\r\nContent-Length: {}\r\n\r\n{sample}",
+                sample.len()
+            )
+            .as_bytes(),
+        )
+    };
+    // A cross-origin fetch with mode "no-cors": a simple content type and
+    // the attacker's Origin.
+    let (code, body) = post(&format!(
+        "Host: {addr}\r\nOrigin: http://evil.example\r\nContent-Type: text/plain;charset=UTF-8"
+    ));
+    assert_eq!(code, 403, "{body}");
+    assert!(body.contains("evil.example"), "{body}");
+    // The same with JSON, and from a sandboxed frame (Origin: null).
+    for origin in ["http://evil.example", "null", "http://127.0.0.1:1"] {
+        let (code, _) = post(&format!(
+            "Host: {addr}\r\nOrigin: {origin}\r\nContent-Type: application/json"
+        ));
+        assert_eq!(code, 403, "{origin}");
+    }
+    // Without an Origin, or with the right one and no JSON.
+    assert_eq!(
+        post(&format!("Host: {addr}\r\nContent-Type: application/json")).0,
+        403
+    );
+    assert_eq!(
+        post(&format!(
+            "Host: {addr}\r\nOrigin: http://{addr}\r\nContent-Type: application/x-www-form-urlencoded"
+        ))
+        .0,
+        415
+    );
+    // DNS rebinding: the attacker's name, now resolving to 127.0.0.1.
+    let rebound = format!("evil.example:{}", addr.port());
+    assert_eq!(
+        post(&format!(
+            "Host: {rebound}\r\nOrigin: http://{rebound}\r\nContent-Type: application/json"
+        ))
+        .0,
+        403
+    );
+    let (code, body) = raw(
+        addr,
+        format!("GET /api/state HTTP/1.1\r\nHost: {rebound}\r\n\r\n").as_bytes(),
+    );
+    assert_eq!(code, 403);
+    assert!(!body.contains("models"), "{body}");
+    assert_eq!(saved(&dir), before, "nothing was changed");
+    // The page's own requests pass, by address and by `localhost`.
+    assert_eq!(http(addr, "POST", "/api/sample", sample).0, 200);
+    let local = format!("localhost:{}", addr.port());
+    let (code, body) = post(&format!(
+        "Host: {local}\r\nOrigin: http://{local}\r\nContent-Type: application/json"
+    ));
+    assert_eq!(code, 200, "{body}");
+    stop.store(true, Ordering::SeqCst);
+    handle.join().unwrap();
+}
+
+/// Finding 5: stalled uploads neither freeze the server nor hold off a stop.
+#[test]
+fn stalled_clients_neither_freeze_the_server_nor_hold_off_a_stop() {
+    use std::time::{Duration, Instant};
+    let dir = TempDir::new("server", "stalled");
+    let (addr, stop, handle) = spawn(&dir);
+    // Twelve clients that send half a head and wait, and twelve that
+    // promise a body and send none of it.
+    let mut stalled = Vec::new();
+    for i in 0..24 {
+        let mut s = TcpStream::connect(addr).unwrap();
+        if i % 2 == 0 {
+            s.write_all(b"POST /api/score HTTP/1.1\r\nHost: 127")
+                .unwrap();
+        } else {
+            write!(
+                s,
+                "POST /api/score HTTP/1.1\r\nHost: {addr}\r\nOrigin: http://{addr}\r\nContent-Type: application/json\r\nContent-Length: 1000\r\n\r\n{{"
+            )
+            .unwrap();
+        }
+        stalled.push(s);
+    }
+    std::thread::sleep(Duration::from_millis(200));
+    let start = Instant::now();
+    for _ in 0..5 {
+        assert_eq!(http(addr, "GET", "/api/state", "").0, 200);
+    }
+    assert!(
+        start.elapsed() < Duration::from_secs(3),
+        "answered while 24 clients stall: {:?}",
+        start.elapsed()
+    );
+    // A stop is honoured within a second while they still stall.
+    let start = Instant::now();
+    stop.store(true, Ordering::SeqCst);
+    handle.join().unwrap();
+    assert!(
+        start.elapsed() < Duration::from_secs(1),
+        "stopped after {:?}",
+        start.elapsed()
+    );
+    drop(stalled);
+}
+
+/// A client that never finishes its request is answered 408 after the
+/// deadline and its connection closed.
+#[test]
+fn a_request_past_its_deadline_is_closed() {
+    use std::time::{Duration, Instant};
+    let dir = TempDir::new("server", "deadline");
+    let (addr, stop, handle) = spawn(&dir);
+    let mut s = TcpStream::connect(addr).unwrap();
+    // A byte a second: never a complete head.
+    let start = Instant::now();
+    s.write_all(b"GET /api/state HTTP/1.1\r\nX: ").unwrap();
+    s.set_read_timeout(Some(Duration::from_millis(500)))
+        .unwrap();
+    let mut got = Vec::new();
+    let mut buf = [0u8; 512];
+    loop {
+        match s.read(&mut buf) {
+            Ok(0) => break,
+            Ok(n) => got.extend_from_slice(&buf[..n]),
+            Err(_) => {
+                assert!(
+                    start.elapsed() < Duration::from_secs(15),
+                    "still open after 15 s"
+                );
+                if s.write_all(b"a").is_err() {
+                    break;
+                }
+            }
+        }
+    }
+    let text = String::from_utf8_lossy(&got);
+    assert!(text.starts_with("HTTP/1.1 408"), "{text}");
+    assert!(start.elapsed() >= Duration::from_secs(9));
+    stop.store(true, Ordering::SeqCst);
+    handle.join().unwrap();
 }

@@ -18,6 +18,8 @@
 //! ```
 
 #[cfg(feature = "cli")]
+mod http;
+#[cfg(feature = "cli")]
 pub mod server;
 pub mod session;
 pub mod tasks;

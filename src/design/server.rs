@@ -29,9 +29,15 @@
 //! Every `POST` answers with the state, taking the same query as `GET state`.
 //! A request that names an older revision than the session's is refused with
 //! 409: another tab or window changed the session since this page loaded it.
+//!
+//! Only the page itself is answered (see [`http`](super::http)): a request
+//! whose `Host` is not this server's address gets 403 (a site that rebinds
+//! its name to 127.0.0.1), and so does a `POST` without the page's own
+//! `Origin`; a `POST` that is not `application/json` gets 415. Bodies are
+//! limited to 1 MiB, declared lengths past it refused before any byte is
+//! read, and a request must arrive within 10 s.
 
 use std::collections::HashMap;
-use std::io::Read as _;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
@@ -47,9 +53,6 @@ use crate::graph::ParamDist;
 
 /// The page, embedded.
 const PAGE: &str = include_str!("page.html");
-
-/// Largest request body accepted (bytes).
-const MAX_BODY: u64 = 1 << 20;
 
 /// An answer: status, content type, body.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -594,84 +597,33 @@ impl DesignServer {
     }
 
     /// Serves on `address` (e.g. `127.0.0.1:8765`; port 0 picks a free one)
-    /// until `stop` returns true (checked twice a second); `ready` is called
-    /// with the bound address. Every change was saved when it was answered,
-    /// so stopping loses nothing.
+    /// until `stop` returns true (looked at ten times a second); `ready` is
+    /// called with the bound address. Every change was saved when it was
+    /// answered, so stopping loses nothing. Requests are read and checked as
+    /// [`http`](super::http) says: bounded in size and time, and only from
+    /// this server's own page.
     pub fn serve(
         &self,
         address: &str,
         ready: impl FnOnce(std::net::SocketAddr),
         stop: &(dyn Fn() -> bool + Sync),
     ) -> Result<(), String> {
-        let server = tiny_http::Server::http(address)
+        let listener = std::net::TcpListener::bind(address)
             .map_err(|e| format!("cannot listen on {address}: {e}"))?;
-        let bound = server
-            .server_addr()
-            .to_ip()
-            .ok_or_else(|| format!("{address} is not an IP address"))?;
+        let bound = listener
+            .local_addr()
+            .map_err(|e| format!("cannot listen on {address}: {e}"))?;
         ready(bound);
-        const WORKERS: usize = 4;
-        let done = std::sync::atomic::AtomicBool::new(false);
-        std::thread::scope(|scope| {
-            for _ in 0..WORKERS {
-                scope.spawn(|| {
-                    // `recv` ends with an error once `unblock` is called.
-                    while let Ok(request) = server.recv() {
-                        if done.load(std::sync::atomic::Ordering::SeqCst) {
-                            break;
-                        }
-                        self.handle(request);
-                    }
-                });
-            }
-            while !stop() {
-                std::thread::sleep(std::time::Duration::from_millis(200));
-            }
-            done.store(true, std::sync::atomic::Ordering::SeqCst);
-            for _ in 0..WORKERS {
-                server.unblock();
-            }
-        });
-        Ok(())
-    }
-
-    fn handle(&self, mut request: tiny_http::Request) {
-        let method = request.method().as_str().to_string();
-        let url = request.url().to_string();
-        let mut body = Vec::new();
-        let reply = if request.body_length().is_some_and(|n| n as u64 > MAX_BODY) {
-            Reply::error(413, "request too large")
-        } else if let Err(e) = request
-            .as_reader()
-            .take(MAX_BODY + 1)
-            .read_to_end(&mut body)
-        {
-            Reply::error(400, format!("cannot read the request: {e}"))
-        } else if body.len() as u64 > MAX_BODY {
-            Reply::error(413, "request too large")
-        } else {
+        let respond = |method: &str, target: &str, body: &[u8]| {
             // A panic in one request must not take the server down.
             std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                self.respond(&method, &url, &body)
+                self.respond(method, target, body)
             }))
             .unwrap_or_else(|_| {
                 Reply::error(500, "internal error (the session on disk is unchanged)")
             })
         };
-        let header =
-            tiny_http::Header::from_bytes(&b"Content-Type"[..], reply.content_type.as_bytes())
-                .expect("a valid header");
-        let no_store = tiny_http::Header::from_bytes(&b"Cache-Control"[..], &b"no-store"[..])
-            .expect("a valid header");
-        // One request per connection: a local page loses nothing by
-        // reconnecting, and no kept-alive socket outlives the server.
-        let close = tiny_http::Header::from_bytes(&b"Connection"[..], &b"close"[..])
-            .expect("a valid header");
-        let response = tiny_http::Response::from_data(reply.body)
-            .with_status_code(reply.status)
-            .with_header(header)
-            .with_header(no_store)
-            .with_header(close);
-        let _ = request.respond(response);
+        super::http::serve(&listener, stop, &respond)
+            .map_err(|e| format!("serving on {bound}: {e}"))
     }
 }
