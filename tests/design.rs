@@ -287,3 +287,203 @@ fn the_evaluation_command_writes_its_table_and_curves() {
         "unknown task `nope`",
     );
 }
+
+/// A session with a learned preference, from the command line: its folder.
+fn learned_session(name: &str) -> TempDir {
+    let dir = TempDir::new("design", name);
+    let graph = shapegen::experiment::Experiment::builtin().graph().clone();
+    ok(
+        &dir,
+        &["design", "sample", "--count", "12", "--thumbnail", "32"],
+    );
+    score_batch(&dir, &graph);
+    ok(&dir, &["design", "learn"]);
+    dir
+}
+
+/// #54 finding 3: the server and the command line write one session file;
+/// neither replaces a revision it did not read.
+#[test]
+fn the_server_and_the_command_line_share_a_session() {
+    use shapegen::design::server::DesignServer;
+    let dir = TempDir::new("design", "shared");
+    let graph = shapegen::experiment::Experiment::builtin().graph().clone();
+    let path = dir.join("design/session.json");
+    ok(
+        &dir,
+        &["design", "sample", "--count", "8", "--thumbnail", "32"],
+    );
+    let server = DesignServer::new(shapegen::experiment::Experiment::builtin(), &path, 3).unwrap();
+    let state = |s: &DesignServer| -> serde_json::Value {
+        serde_json::from_slice(&s.respond("GET", "/api/state", &[]).body).unwrap()
+    };
+    let before = state(&server)["revision"].as_u64().unwrap();
+    // The command line scores the batch while the server holds the session.
+    score_batch(&dir, &graph);
+    ok(&dir, &["design", "learn"]);
+    // The page, still on the old revision, is told to reload; nothing of
+    // the command line's is lost.
+    let post = |s: &DesignServer, body: String| s.respond("POST", "/api/factor", body.as_bytes());
+    let r = post(
+        &server,
+        format!(r#"{{"name": "colour", "revision": {before}}}"#),
+    );
+    assert_eq!(r.status, 409, "{}", String::from_utf8_lossy(&r.body));
+    let now = state(&server);
+    assert_eq!(
+        now["scored"], 8,
+        "the server shows the command line's scores"
+    );
+    assert!(now["revision"].as_u64().unwrap() > before);
+    // After a reload, the page's change is applied on top of them.
+    let rev = now["revision"].as_u64().unwrap();
+    let r = post(
+        &server,
+        format!(r#"{{"name": "colour", "revision": {rev}}}"#),
+    );
+    assert_eq!(r.status, 200, "{}", String::from_utf8_lossy(&r.body));
+    let saved = json(&path);
+    assert_eq!(saved["factors"][0]["scored"].as_array().unwrap().len(), 8);
+    assert_eq!(saved["factors"][1]["name"], "colour");
+    // A copy read before the server's change is refused, not written.
+    let mut stale = Session::load(&path, "spaceship", &graph).unwrap();
+    let r = post(
+        &server,
+        format!(r#"{{"name": "size", "revision": {}}}"#, rev + 1),
+    );
+    assert_eq!(r.status, 200);
+    stale.select_factor("other").unwrap();
+    let e = stale.save(&path).unwrap_err();
+    assert!(matches!(e, SessionError::Changed { .. }), "{e}");
+    assert!(e.to_string().contains("changed by another program"), "{e}");
+    assert_eq!(
+        json(&path)["factors"][2]["name"],
+        "size",
+        "the server's change stands"
+    );
+    // So is a new session over one that appeared meanwhile.
+    let mut fresh = Session::new("spaceship", &graph, 1);
+    assert!(matches!(
+        fresh.save(&path),
+        Err(SessionError::Changed { .. })
+    ));
+}
+
+/// #54 finding 7: hand-edited sessions are refused with what is wrong, by
+/// every command, never with a panic; model ids never wrap.
+#[test]
+fn edited_sessions_are_refused_whole() {
+    let dir = learned_session("edited");
+    let path = dir.join("design/session.json");
+    let good = std::fs::read(&path).unwrap();
+    let edit = |what: &str, says: &str, f: &dyn Fn(&mut serde_json::Value)| {
+        let mut v: serde_json::Value = serde_json::from_slice(&good).unwrap();
+        f(&mut v);
+        std::fs::write(&path, serde_json::to_vec(&v).unwrap()).unwrap();
+        for args in [
+            &["design", "sample", "--count", "2", "--thumbnail", "16"][..],
+            &["design", "export", "--training", "20"][..],
+        ] {
+            let o = shapegen(&dir, args);
+            let err = String::from_utf8_lossy(&o.stderr);
+            assert!(!o.status.success(), "{what}: {args:?} accepted it");
+            assert!(!err.contains("panicked"), "{what}: {err}");
+            assert!(
+                err.contains("not a shapegen design session"),
+                "{what}: {err}"
+            );
+            assert!(err.contains(says), "{what}: expected `{says}` in {err}");
+        }
+    };
+    let factor = "/learned/factors/0";
+    edit("an empty scale", "keys and scales", &|v| {
+        v.pointer_mut(&format!("{factor}/space/scale"))
+            .unwrap()
+            .as_array_mut()
+            .unwrap()
+            .clear();
+    });
+    edit("a zero scale", "not a positive number", &|v| {
+        v.pointer_mut(&format!("{factor}/space/scale/0"))
+            .map(|x| *x = 0.0.into())
+            .unwrap();
+    });
+    edit("weights of another length", "disagree in number", &|v| {
+        v.pointer_mut(&format!("{factor}/gp/theta"))
+            .unwrap()
+            .as_array_mut()
+            .unwrap()
+            .pop();
+    });
+    edit(
+        "a training input of another length",
+        "disagree in number",
+        &|v| {
+            v.pointer_mut(&format!("{factor}/gp/x/0"))
+                .unwrap()
+                .as_array_mut()
+                .unwrap()
+                .push(1.0.into());
+        },
+    );
+    edit(
+        "a feature of a node that does not exist",
+        "names node 999",
+        &|v| {
+            v.pointer_mut(&format!("{factor}/space/keys/0"))
+                .map(|k| *k = serde_json::json!({"count": {"node": 999}}))
+                .unwrap();
+        },
+    );
+    edit("a model listed twice", "twice", &|v| {
+        let first = v["factors"][0]["scored"][0].clone();
+        v["factors"][0]["scored"]
+            .as_array_mut()
+            .unwrap()
+            .push(first);
+    });
+    edit("an id past the next id", "the next id is 3", &|v| {
+        v["next_id"] = 3.into();
+    });
+    edit("a shown model it does not hold", "model 12345", &|v| {
+        v["shown"] = serde_json::json!([12345]);
+    });
+    // Ids run out with an error, not by wrapping onto an older model.
+    let mut v: serde_json::Value = serde_json::from_slice(&good).unwrap();
+    v["next_id"] = (u64::MAX - 1).into();
+    std::fs::write(&path, serde_json::to_vec(&v).unwrap()).unwrap();
+    fails(
+        &dir,
+        &["design", "sample", "--count", "2", "--thumbnail", "16"],
+        "every model id",
+    );
+    std::fs::write(&path, &good).unwrap();
+    // Factor names the server refuses, and a scores file naming a model twice.
+    fails(
+        &dir,
+        &["design", "sample", "--factor", " ", "--thumbnail", "16"],
+        "a factor's name must be",
+    );
+    let long = "x".repeat(81);
+    fails(
+        &dir,
+        &["design", "sample", "--factor", &long, "--thumbnail", "16"],
+        "a factor's name must be",
+    );
+    ok(
+        &dir,
+        &["design", "sample", "--count", "4", "--thumbnail", "16"],
+    );
+    let scores = dir.join("design/batch/scores.json");
+    let mut file = json(&scores);
+    let models = file["models"].as_array_mut().unwrap();
+    let twice = models[0].clone();
+    models.push(twice);
+    for m in models.iter_mut() {
+        m["score"] = 50.0.into();
+    }
+    std::fs::write(&scores, serde_json::to_vec(&file).unwrap()).unwrap();
+    let before = std::fs::read(&path).unwrap();
+    fails(&dir, &["design", "learn"], "twice");
+    assert_eq!(std::fs::read(&path).unwrap(), before, "nothing was saved");
+}

@@ -28,6 +28,7 @@
 //! (paths never seen there are not features). Every feature is divided by its
 //! largest magnitude over those models, so all lie in about `[0, 1]`.
 
+use crate::DesignError;
 use std::collections::HashMap;
 
 use serde::{Deserialize, Serialize};
@@ -99,6 +100,82 @@ impl FeatureKey {
         }
     }
 
+    /// Whether the key can name features of `graph`: its nodes, parameters,
+    /// components and slots exist (a key read from a file is checked so
+    /// before [`describe`](Self::describe) or a model meets it).
+    pub fn check(&self, graph: &Graph) -> Result<(), String> {
+        let node_of = |node: u32| (node as usize) < graph.node_count();
+        let spec = |node: u32| {
+            if node_of(node) {
+                Ok(graph.node(node as NodeId))
+            } else {
+                Err(format!(
+                    "feature {self:?} names node {node}; the generator has {}",
+                    graph.node_count()
+                ))
+            }
+        };
+        let param = |node: u32, param: u32| -> Result<&ParamDist, String> {
+            spec(node)?
+                .params
+                .get(param as usize)
+                .map(|p| &p.dist)
+                .ok_or_else(|| {
+                    format!("feature {self:?} names a parameter node {node} does not have")
+                })
+        };
+        match self {
+            Self::Count { node } => spec(u32::from(*node)).map(|_| ()),
+            Self::Param {
+                node,
+                param: p,
+                component,
+                ..
+            } => {
+                let dims = match param(u32::from(*node), u32::from(*p))? {
+                    ParamDist::Vec2(_) => 2,
+                    ParamDist::Vec3(_) => 3,
+                    _ => 1,
+                };
+                if *component >= dims {
+                    return Err(format!(
+                        "feature {self:?} names component {component} of a parameter of {dims}"
+                    ));
+                }
+                Ok(())
+            }
+            Self::Choice { node, param: p, .. } => match param(u32::from(*node), u32::from(*p))? {
+                ParamDist::Choice(_) => Ok(()),
+                _ => Err(format!(
+                    "feature {self:?} counts options of a parameter that is no choice"
+                )),
+            },
+            Self::Path(path) => {
+                if path.len() % 4 != 3 {
+                    return Err(format!(
+                        "feature {self:?}: a path is genes of 3 numbers joined by slots"
+                    ));
+                }
+                for c in path.chunks(4) {
+                    let node = spec(c[0])?;
+                    if c[1] != u32::MAX {
+                        param(c[0], c[1])?;
+                    }
+                    if let Some(&slot) = c.get(3)
+                        && slot as usize >= node.slots.len()
+                    {
+                        return Err(format!(
+                            "feature {self:?} names slot {slot} of `{}`, which has {}",
+                            node.name,
+                            node.slots.len()
+                        ));
+                    }
+                }
+                Ok(())
+            }
+        }
+    }
+
     /// A readable name, e.g. `Mass.h[0]`, `#Mass`, `#Mass(colour=0)`,
     /// `Stack.bottom>Mass(colour=0)`.
     #[must_use]
@@ -159,7 +236,7 @@ fn stochastic_choice(graph: &Graph, node: NodeId, param: usize) -> bool {
 
 /// A fitted feature map: the vocabulary and scales learned from a set of models.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-#[serde(from = "StoredSpace", into = "StoredSpace")]
+#[serde(try_from = "StoredSpace", into = "StoredSpace")]
 pub struct FeatureSpace {
     options: FeatureOptions,
     keys: Vec<FeatureKey>,
@@ -175,14 +252,36 @@ struct StoredSpace {
     scale: Vec<f64>,
 }
 
-impl From<StoredSpace> for FeatureSpace {
-    fn from(s: StoredSpace) -> Self {
-        Self {
-            index: index_of(&s.keys),
+impl TryFrom<StoredSpace> for FeatureSpace {
+    type Error = DesignError;
+
+    /// Refuses a (hand-edited) space whose scales are not one positive
+    /// number per key, or whose keys repeat.
+    fn try_from(s: StoredSpace) -> Result<Self, DesignError> {
+        if s.keys.len() != s.scale.len() {
+            return Err(DesignError::Mismatch {
+                what: "a feature space's keys and scales",
+                left: s.keys.len(),
+                right: s.scale.len(),
+            });
+        }
+        if let Some(bad) = s.scale.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+            return Err(DesignError::Invalid(format!(
+                "a feature's scale is {bad}, not a positive number"
+            )));
+        }
+        let index = index_of(&s.keys);
+        if index.len() != s.keys.len() {
+            return Err(DesignError::Invalid(
+                "a feature space names a feature twice".into(),
+            ));
+        }
+        Ok(Self {
+            index,
             options: s.options,
             keys: s.keys,
             scale: s.scale,
-        }
+        })
     }
 }
 
@@ -259,11 +358,13 @@ impl FeatureSpace {
         // Features that are 0 on every model (a recursion level never
         // reached, a node never derived) cannot tell models apart: dropped.
         let kept: Vec<usize> = (0..keys.len()).filter(|&i| scale[i] > 0.0).collect();
-        Self::from(StoredSpace {
+        let keys: Vec<FeatureKey> = kept.iter().map(|&i| keys[i].clone()).collect();
+        Self {
+            index: index_of(&keys),
             options,
-            keys: kept.iter().map(|&i| keys[i].clone()).collect(),
+            keys,
             scale: kept.iter().map(|&i| scale[i]).collect(),
-        })
+        }
     }
 
     /// The options it was fitted with.

@@ -89,6 +89,28 @@ impl TryFrom<Fit> for Gp {
     /// Factorizes the covariance; a (hand-edited) fit whose covariance is
     /// not positive definite is an error.
     fn try_from(fit: Fit) -> Result<Self, DesignError> {
+        if fit.x.len() != fit.y.len() {
+            return Err(DesignError::Mismatch {
+                what: "a process's training inputs and scores",
+                left: fit.x.len(),
+                right: fit.y.len(),
+            });
+        }
+        if let Some(x) = fit.x.iter().find(|x| x.len() != fit.theta.len()) {
+            return Err(DesignError::Mismatch {
+                what: "a training input's features and the feature weights",
+                left: x.len(),
+                right: fit.theta.len(),
+            });
+        }
+        let finite = fit.x.iter().flatten().chain(&fit.y).all(|v| v.is_finite());
+        let weights = fit.theta.iter().all(|t| t.is_finite() && *t >= 0.0);
+        let positive = |v: f64| v.is_finite() && v > 0.0;
+        if !(finite && weights && positive(fit.theta0) && positive(fit.options.noise)) {
+            return Err(DesignError::Invalid(
+                "a process's inputs, scores, weights, amplitude or noise are not finite numbers of their sign".into(),
+            ));
+        }
         let (chol, alpha) = factor(&fit.x, &fit.y, fit.theta0, &fit.theta, fit.options.noise)
             .ok_or(DesignError::NotPositiveDefinite)?;
         Ok(Self { fit, alpha, chol })
@@ -370,6 +392,12 @@ impl Gp {
     #[must_use]
     pub fn amplitude(&self) -> f64 {
         self.fit.theta0
+    }
+
+    /// Number of features `D` the process reads.
+    #[must_use]
+    pub fn dimension(&self) -> usize {
+        self.fit.theta.len()
     }
 
     /// The feature weights `θ_d`.

@@ -149,6 +149,27 @@ pub struct Preference {
 }
 
 impl Preference {
+    /// Whether the preference can read models of `graph`: every factor's
+    /// features name what the graph has, and its process reads as many
+    /// features as its space gives (a preference read from a file is checked
+    /// so before it predicts anything).
+    pub fn check(&self, graph: &Graph) -> Result<(), DesignError> {
+        for f in &self.factors {
+            if f.space.len() != f.gp.dimension() {
+                return Err(DesignError::Mismatch {
+                    what: "a factor's features and its process's weights",
+                    left: f.space.len(),
+                    right: f.gp.dimension(),
+                });
+            }
+            for key in f.space.keys() {
+                key.check(graph)
+                    .map_err(|why| DesignError::Invalid(format!("factor `{}`: {why}", f.name)))?;
+            }
+        }
+        Ok(())
+    }
+
     /// A preference of one factor.
     #[must_use]
     pub fn single(factor: Factor) -> Self {

@@ -101,7 +101,9 @@ fn sample(cli: &Cli, args: &DesignSampleArgs) -> Result<(), CliError> {
         )
     };
     if let Some(f) = &args.factor {
-        session.select_factor(f);
+        session
+            .select_factor(f)
+            .map_err(|e| CliError::msg(format!("--factor: {e}")))?;
     }
     // Every output checked before anything is drawn.
     guard::check_output_file(path)?;
@@ -233,7 +235,18 @@ fn learn(cli: &Cli, args: &DesignLearnArgs) -> Result<(), CliError> {
         )));
     }
     guard::check_output_file(path)?;
-    session.select_factor(&file.factor);
+    session
+        .select_factor(&file.factor)
+        .map_err(|e| CliError::msg(format!("{}: {e}; nothing was saved", args.scores.display())))?;
+    let mut ids: Vec<u64> = file.models.iter().map(|e| e.id).collect();
+    ids.sort_unstable();
+    if let Some(w) = ids.windows(2).find(|w| w[0] == w[1]) {
+        return Err(CliError::msg(format!(
+            "{} lists model {} twice: which score is meant? nothing was saved",
+            args.scores.display(),
+            w[0]
+        )));
+    }
     let mut added = 0;
     for e in file.models.iter().filter(|e| e.score.is_some()) {
         let score = e.score.unwrap_or_default();

@@ -45,11 +45,14 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use serde_json::json;
 
-use super::session::{Mode, Session};
+use super::session::{Mode, Session, SessionError};
 use crate::design::{FactorOptions, Learner, StructureOptions};
 use crate::experiment::Experiment;
 use crate::genome::Chromosome;
 use crate::graph::ParamDist;
+
+/// Why a change was refused because the session changed elsewhere.
+const CHANGED_ELSEWHERE: &str = "the session was changed in another tab, window or program since this page loaded it: reload the page to see its current state (nothing was changed)";
 
 /// The page, embedded.
 const PAGE: &str = include_str!("page.html");
@@ -169,7 +172,7 @@ impl DesignServer {
             Session::load(path, experiment.generator(), experiment.graph())
                 .map_err(|e| e.to_string())?
         } else {
-            let s = Session::new(experiment.generator(), experiment.graph(), seed);
+            let mut s = Session::new(experiment.generator(), experiment.graph(), seed);
             s.save(path)
                 .map_err(|e| format!("cannot create the session: {e}"))?;
             s
@@ -215,6 +218,29 @@ impl DesignServer {
         }
     }
 
+    /// Takes the session from disk if another program (a `design` command,
+    /// a second server) saved it since this server read or wrote it;
+    /// whether it did. A file that cannot be read or is no valid session is
+    /// left to the next save, which refuses to replace it.
+    fn refresh(&self, state: &mut State) -> bool {
+        match Session::revision_on_disk(&self.path) {
+            Ok(Some(r)) if r != state.session.revision => {
+                match Session::load(
+                    &self.path,
+                    self.experiment.generator(),
+                    self.experiment.graph(),
+                ) {
+                    Ok(session) => {
+                        state.session = session;
+                        true
+                    }
+                    Err(_) => false,
+                }
+            }
+            _ => false,
+        }
+    }
+
     fn lock(&self) -> std::sync::MutexGuard<'_, State> {
         // A panic while holding the lock would leave the session as saved on
         // disk; the in-memory copy is still usable.
@@ -243,12 +269,12 @@ impl DesignServer {
         };
         let mut state = self.lock();
         let current = state.session.revision;
+        if self.refresh(&mut state) {
+            return Reply::error(409, CHANGED_ELSEWHERE);
+        }
         let check = |revision: Option<u64>| -> Result<(), Reply> {
             match revision {
-                Some(r) if r != current => Err(Reply::error(
-                    409,
-                    "the session was changed in another tab or window since this page loaded it: reload the page to see its current state (nothing was changed)",
-                )),
+                Some(r) if r != current => Err(Reply::error(409, CHANGED_ELSEWHERE)),
                 _ => Ok(()),
             }
         };
@@ -295,17 +321,12 @@ impl DesignServer {
             "factor" => {
                 let r: FactorRequest = parse(body)?;
                 check(r.revision)?;
-                let name = r.name.trim();
-                if name.is_empty() || name.len() > 80 {
-                    return Err(Reply::error(
-                        400,
-                        "a factor's name must be 1 to 80 characters",
-                    ));
-                }
                 match r.active {
-                    None => next.select_factor(name),
+                    None => next
+                        .select_factor(&r.name)
+                        .map_err(|e| Reply::error(400, e.to_string()))?,
                     Some(active) => next
-                        .set_active(name, active)
+                        .set_active(r.name.trim(), active)
                         .map_err(|e| Reply::error(404, e.to_string()))?,
                 }
                 Ok(true)
@@ -342,11 +363,15 @@ impl DesignServer {
             Err(reply) => return reply,
         };
         if changed {
-            next.revision += 1;
-            if let Err(e) = next.save(&self.path) {
-                return Reply::error(500, format!("cannot save the session: {e}"));
+            match next.save(&self.path) {
+                Ok(()) => state.session = next,
+                Err(SessionError::Changed { .. }) => {
+                    // Another program saved between the refresh and now.
+                    self.refresh(&mut state);
+                    return Reply::error(409, CHANGED_ELSEWHERE);
+                }
+                Err(e) => return Reply::error(500, format!("cannot save the session: {e}")),
             }
-            state.session = next;
         }
         state.thumbnails.extend(thumbnails);
         drop(state);
@@ -497,7 +522,8 @@ impl DesignServer {
         if with_thumbnails {
             self.render_missing();
         }
-        let state = self.lock();
+        let mut state = self.lock();
+        self.refresh(&mut state);
         let s = &state.session;
         let graph = self.experiment.graph();
         let mut models: Vec<(ModelView, Option<Chromosome>)> = s

@@ -74,10 +74,35 @@ pub enum SessionError {
     /// A mode that needs a learned preference, before any.
     #[error("mode `{0}` needs a learned preference: score some models and run `learn` first")]
     NotLearned(&'static str),
+    /// The file changed on disk since this copy was read: another program
+    /// (the design server, another `design` command) saved it. Nothing was
+    /// written.
+    #[error(
+        "{path} was changed by another program since it was read (it is at revision {found}, this copy was read at {read}): nothing was saved; run the command again, or reload the page"
+    )]
+    Changed {
+        /// The file.
+        path: String,
+        /// The revision this copy was read at (`none`: a new session).
+        read: String,
+        /// The revision on disk (`none`: no file).
+        found: String,
+    },
+    /// A factor's name the session does not take.
+    #[error(
+        "a factor's name must be 1 to {MAX_FACTOR_NAME} characters (not counting spaces around it), got `{0}`"
+    )]
+    FactorName(String),
+    /// Every model id was used.
+    #[error("the session has used every model id: start a new session")]
+    IdsExhausted,
     /// Learning or sampling.
     #[error(transparent)]
     Design(#[from] DesignError),
 }
+
+/// Longest factor name, in characters.
+pub const MAX_FACTOR_NAME: usize = 80;
 
 /// How a batch of models is chosen (the thesis's §4.6).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -193,10 +218,33 @@ pub struct Session {
     /// Scores given since the last `learn` (a refit is due).
     #[serde(default)]
     pub stale: bool,
-    /// How many times the session was saved by the design server: a page
-    /// that sends an older revision is told the session changed elsewhere.
+    /// How many times the session was saved (by the design server or a
+    /// `design` command): a page that sends an older revision is told the
+    /// session changed elsewhere, and a writer that read an older one is
+    /// refused (see [`save`](Self::save)).
     #[serde(default)]
     pub revision: u64,
+    /// The revision on disk when this copy was read or last saved; `None`
+    /// for a session not yet saved.
+    #[serde(skip)]
+    read_at: Option<u64>,
+}
+
+/// What [`Session::save`] reads of the file on disk to see whether it changed.
+#[derive(Deserialize)]
+struct OnDisk {
+    #[serde(default)]
+    revision: u64,
+}
+
+/// `name` trimmed, if it is a factor's name the session takes.
+fn check_factor_name(name: &str) -> Result<&str, SessionError> {
+    let trimmed = name.trim();
+    let length = trimmed.chars().count();
+    if length == 0 || length > MAX_FACTOR_NAME || trimmed.chars().any(char::is_control) {
+        return Err(SessionError::FactorName(name.to_string()));
+    }
+    Ok(trimmed)
 }
 
 fn fingerprint(graph: &Graph) -> String {
@@ -226,6 +274,7 @@ impl Session {
             mode: None,
             stale: false,
             revision: 0,
+            read_at: None,
         }
     }
 
@@ -240,7 +289,8 @@ impl Session {
             path: path.display().to_string(),
             why,
         };
-        let session: Self = serde_json::from_str(&text).map_err(|e| format(e.to_string()))?;
+        let mut session: Self = serde_json::from_str(&text).map_err(|e| format(e.to_string()))?;
+        session.read_at = Some(session.revision);
         if session.version != SESSION_VERSION {
             return Err(format(format!(
                 "format version {} (this build reads {SESSION_VERSION})",
@@ -275,23 +325,131 @@ impl Session {
                 });
             }
         }
+        session.check_ids().map_err(format)?;
+        for f in &session.factors {
+            check_factor_name(&f.name).map_err(|e| format(e.to_string()))?;
+        }
+        if let Some(p) = &session.learned {
+            p.check(graph)
+                .map_err(|e| format(format!("its learned preference: {e}")))?;
+        }
         Ok(session)
     }
 
-    /// Writes the session atomically (a temporary file renamed over it).
-    pub fn save(&self, path: &Path) -> Result<(), SessionError> {
-        let text = serde_json::to_string_pretty(self).map_err(|e| SessionError::Format {
+    /// Every id below `next_id`, none twice in the pending batch or in one
+    /// factor, every shown one stored.
+    fn check_ids(&self) -> Result<(), String> {
+        let lists = std::iter::once((
+            "the pending batch".to_string(),
+            self.pending.iter().map(|p| p.id).collect::<Vec<u64>>(),
+        ))
+        .chain(self.factors.iter().map(|f| {
+            (
+                format!("factor `{}`", f.name),
+                f.scored.iter().map(|s| s.id).collect(),
+            )
+        }));
+        for (what, mut ids) in lists {
+            ids.sort_unstable();
+            if let Some(w) = ids.windows(2).find(|w| w[0] == w[1]) {
+                return Err(format!("{what} holds model {} twice", w[0]));
+            }
+            if let Some(&last) = ids.last()
+                && last >= self.next_id
+            {
+                return Err(format!(
+                    "{what} holds model {last}, but the next id is {}",
+                    self.next_id
+                ));
+            }
+        }
+        if let Some(id) = self.shown.iter().find(|&&id| self.model(id).is_none()) {
+            return Err(format!("it shows model {id}, which it does not hold"));
+        }
+        Ok(())
+    }
+
+    /// Writes the session atomically (a temporary file renamed over it) as
+    /// the next revision, unless the file changed since this copy was read
+    /// or last saved: then nothing is written and the error is
+    /// [`SessionError::Changed`]. Writers in other processes (the design
+    /// server, `design` commands) are kept apart by an advisory lock on
+    /// `PATH.lock` beside the file while they compare and write, so no
+    /// writer ever replaces a revision it did not read.
+    pub fn save(&mut self, path: &Path) -> Result<(), SessionError> {
+        let io = |source: std::io::Error| SessionError::Io {
+            path: path.display().to_string(),
+            source,
+        };
+        let mut lock_name = path.file_name().unwrap_or_default().to_os_string();
+        lock_name.push(".lock");
+        let lock = std::fs::OpenOptions::new()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(path.with_file_name(lock_name))
+            .map_err(io)?;
+        lock.lock().map_err(io)?;
+        let on_disk = match std::fs::read(path) {
+            Ok(bytes) => Some(
+                serde_json::from_slice::<OnDisk>(&bytes)
+                    .map_err(|e| SessionError::Format {
+                        path: path.display().to_string(),
+                        why: e.to_string(),
+                    })?
+                    .revision,
+            ),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
+            Err(e) => return Err(io(e)),
+        };
+        // A file removed since it was read loses nothing by being written.
+        if on_disk.is_some() && on_disk != self.read_at {
+            let show = |r: Option<u64>| r.map_or_else(|| "none".into(), |r| r.to_string());
+            return Err(SessionError::Changed {
+                path: path.display().to_string(),
+                read: show(self.read_at),
+                found: show(on_disk),
+            });
+        }
+        let mut next = self.clone();
+        next.revision = match self.read_at {
+            Some(r) => r.max(self.revision) + 1,
+            None => self.revision,
+        };
+        let text = serde_json::to_string_pretty(&next).map_err(|e| SessionError::Format {
             path: path.display().to_string(),
             why: e.to_string(),
         })?;
-        crate::score::write_atomically(path, text.as_bytes()).map_err(|e| SessionError::Io {
-            path: path.display().to_string(),
-            source: std::io::Error::other(e.to_string()),
-        })
+        crate::score::write_atomically(path, text.as_bytes())
+            .map_err(|e| io(std::io::Error::other(e.to_string())))?;
+        self.revision = next.revision;
+        self.read_at = Some(next.revision);
+        Ok(())
     }
 
-    /// Makes `name` the current factor, creating it if needed.
-    pub fn select_factor(&mut self, name: &str) {
+    /// The revision of the session file at `path` (`None` if there is no
+    /// file): what a holder of a session compares with its own to see
+    /// whether another program saved it.
+    pub fn revision_on_disk(path: &Path) -> Result<Option<u64>, SessionError> {
+        match std::fs::read(path) {
+            Ok(bytes) => serde_json::from_slice::<OnDisk>(&bytes)
+                .map(|d| Some(d.revision))
+                .map_err(|e| SessionError::Format {
+                    path: path.display().to_string(),
+                    why: e.to_string(),
+                }),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+            Err(source) => Err(SessionError::Io {
+                path: path.display().to_string(),
+                source,
+            }),
+        }
+    }
+
+    /// Makes `name` (trimmed; 1 to [`MAX_FACTOR_NAME`] characters) the
+    /// current factor, creating it if needed.
+    pub fn select_factor(&mut self, name: &str) -> Result<(), SessionError> {
+        let name = check_factor_name(name)?;
         match self.factors.iter().position(|f| f.name == name) {
             Some(i) => self.current = i,
             None => {
@@ -303,6 +461,7 @@ impl Session {
                 self.current = self.factors.len() - 1;
             }
         }
+        Ok(())
     }
 
     /// Takes factor `name` into the preference or leaves it out; the
@@ -386,6 +545,10 @@ impl Session {
                     .collect::<Result<_, _>>()?
             }
         };
+        let fresh = models.iter().filter(|m| m.0.is_none()).count() as u64;
+        if self.next_id.checked_add(fresh).is_none() {
+            return Err(SessionError::IdsExhausted);
+        }
         self.batches += 1;
         self.pending.clear();
         self.mode = Some(mode);
