@@ -1235,3 +1235,75 @@ fn ctrl_c_stops_a_slow_generation_within_a_second() {
         "resumed",
     ]);
 }
+
+/// Runs the binary with its stdout (and, if `both`, stderr) a pipe nobody
+/// reads: closed at once, as when `head` or a pager quits.
+fn run_with_closed_streams(dir: &Path, args: &[&str], both: bool) -> Option<i32> {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_shapegen"))
+        .args(args)
+        .current_dir(dir)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(if both { Stdio::piped() } else { Stdio::null() })
+        .spawn()
+        .expect("the binary runs");
+    drop(child.stdout.take());
+    drop(child.stderr.take());
+    let start = Instant::now();
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            return status.code();
+        }
+        assert!(start.elapsed() < LIMIT, "shapegen {args:?} did not end");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// #54 finding 4: `shapegen run ... 2>&1 | head -1` and the same for
+/// `compare` finish and write every result; a closed stream is no error.
+#[test]
+fn closed_output_streams_never_cost_the_results() {
+    let case = Case::new("closed");
+    case.file("e.toml", SMALL);
+    for both in [true, false] {
+        let out = format!("run-{both}");
+        let code = run_with_closed_streams(
+            &case.dir,
+            &[
+                "run",
+                "e.toml",
+                "--out",
+                &out,
+                "--checkpoint",
+                &format!("{out}.cp"),
+            ],
+            both,
+        );
+        assert_eq!(code, Some(0), "run, stderr closed too: {both}");
+        for f in ["best.json", "best.obj", "summary.json", "curve.csv"] {
+            assert!(case.dir.join(&out).join(f).is_file(), "{out}/{f}");
+        }
+        assert!(case.dir.join(format!("{out}.cp")).is_file());
+        let out = format!("compare-{both}");
+        let code = run_with_closed_streams(
+            &case.dir,
+            &[
+                "compare",
+                "e.toml",
+                "--seconds",
+                "0.3",
+                "--runs",
+                "1",
+                "--methods",
+                "ga",
+                "--out",
+                &out,
+            ],
+            both,
+        );
+        assert_eq!(code, Some(0), "compare, stderr closed too: {both}");
+        for f in ["summary.json", "runs.csv", "curves.csv"] {
+            assert!(case.dir.join(&out).join(f).is_file(), "{out}/{f}");
+        }
+    }
+}

@@ -141,7 +141,7 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
     }
     guard::refuse_overwriting_inputs(&outputs, experiment.inputs())?;
     for w in experiment.warnings_for(&args.methods) {
-        eprintln!("shapegen: warning: {w}");
+        errln!("shapegen: warning: {w}");
     }
     let pool = thread_pool(args.threads)?;
     let threads = pool.current_num_threads();
@@ -153,7 +153,7 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
             methods.push(*m);
         }
     }
-    eprintln!(
+    errln!(
         "shapegen: comparing {} on `{}` ({}): {} run(s) × {} s each, {threads} thread(s)",
         methods
             .iter()
@@ -198,7 +198,7 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
                 pool.install(|| experiment.run(method, &budget, seed, None, &mut observer))?;
             drop(observer);
             if !args.quiet {
-                eprintln!(
+                errln!(
                     "  {method:<6} run {} (seed {seed}): best {:.4} after {} generations, {} evaluations",
                     r + 1,
                     result.best_fitness,
@@ -214,7 +214,7 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
                 iou_at,
             });
             if interrupted() {
-                eprintln!("shapegen: interrupted; summarizing the finished runs");
+                errln!("shapegen: interrupted; summarizing the finished runs");
                 break 'runs;
             }
         }
@@ -341,7 +341,7 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
         output::write_chromosome(&dir.join("best.json"), &experiment, &best_run.result.best)?;
     }
     if let Some(warning) = plot::labelled_row(&out.join("best_by_method.png"), &best_pictures)? {
-        eprintln!("shapegen: warning: {warning}");
+        errln!("shapegen: warning: {warning}");
     }
     let mut runs_csv = String::from("method,run,seed,generation,seconds,evaluations,best,mean\n");
     for (method, runs) in &all {
@@ -375,11 +375,18 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
         experiment.optimum(),
         &series,
     )? {
-        eprintln!("shapegen: warning: {warning}");
+        errln!("shapegen: warning: {warning}");
     }
-    println!(
+    outln!(
         "{:<8} {:>12} {:>12} {:>12}   {:>6} {:>6} {:>6} {:>12}",
-        "method", "10%", "50%", "100%", "IoU10%", "IoU50%", "IoU", "evaluations"
+        "method",
+        "10%",
+        "50%",
+        "100%",
+        "IoU10%",
+        "IoU50%",
+        "IoU",
+        "evaluations"
     );
     for (name, m) in &summary.methods {
         let cell = |k: &str| match (m.mean_at[k], m.std_at[k]) {
@@ -387,7 +394,7 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
             _ => "-".to_string(),
         };
         let iou = |k: &str| m.iou_at[k].map_or_else(|| "-".to_string(), |v| format!("{v:.3}"));
-        println!(
+        outln!(
             "{name:<8} {:>12} {:>12} {:>12}   {:>6} {:>6} {:>6} {:>12.0}",
             cell("10%"),
             cell("50%"),
@@ -401,15 +408,15 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
     for (name, m) in &summary.methods {
         if let Some(g) = &m.goal {
             match (g.seconds, g.evaluations) {
-                (Some(s), Some(e)) => println!(
+                (Some(s), Some(e)) => outln!(
                     "{name} reaches {} after {s:.2} s, {e} evaluations",
                     g.fitness
                 ),
-                _ => println!("{name} does not reach {} within the budget", g.fitness),
+                _ => outln!("{name} does not reach {} within the budget", g.fitness),
             }
         }
     }
-    println!(
+    outln!(
         "wrote {0}/curves.csv, {0}/runs.csv, {0}/summary.json, {0}/curves.png, {0}/best_by_method.png and each method's best model in {0}/<method>/",
         out.display()
     );

@@ -161,7 +161,7 @@ fn sample(cli: &Cli, args: &DesignSampleArgs) -> Result<(), CliError> {
         crate::score::write_atomically(&args.out.join("index.html"), html.as_bytes())?;
         session.save(path).map_err(|e| CliError::msg(e.to_string()))
     })?;
-    println!(
+    outln!(
         "{} models of `{}` ({} pdf) for factor `{factor}`: open {} and fill in the scores in {}, then run `shapegen design learn --session {} --scores {}`",
         shown.len(),
         experiment.generator(),
@@ -270,13 +270,13 @@ fn learn(cli: &Cli, args: &DesignLearnArgs) -> Result<(), CliError> {
     session
         .save(path)
         .map_err(|e| CliError::msg(e.to_string()))?;
-    println!(
+    outln!(
         "{added} scores added ({} scored in all); learned {} factor(s):",
         session.scored_count(),
         preference.factors.len()
     );
     for f in &preference.factors {
-        println!(
+        outln!(
             "  `{}` from {} models, path length {}; most relevant features:",
             f.name,
             f.gp.len(),
@@ -288,10 +288,10 @@ fn learn(cli: &Cli, args: &DesignLearnArgs) -> Result<(), CliError> {
             .into_iter()
             .filter(|(_, w)| *w > 0.0 && *w >= 0.05 * max)
         {
-            println!("    {w:8.3}  {name}");
+            outln!("    {w:8.3}  {name}");
         }
     }
-    println!(
+    outln!(
         "next: `shapegen design sample --mode current` to see what it learned, or `shapegen design export`"
     );
     Ok(())
@@ -327,7 +327,7 @@ fn export(cli: &Cli, args: &DesignExportArgs) -> Result<(), CliError> {
         )
         .map_err(|e| CliError::msg(e.to_string()))?;
     guard::writing(|| crate::output::write_json(&args.out, &pdf))?;
-    print!(
+    out!(
         "{} learned generator of `{}`: {} component(s) from {} models drawn by rejection (acceptance {:.1} %)",
         pdf.method,
         experiment.generator(),
@@ -336,12 +336,13 @@ fn export(cli: &Cli, args: &DesignExportArgs) -> Result<(), CliError> {
         100.0 * acceptance
     );
     if let Some(r) = report {
-        print!(
+        out!(
             "; split {:?} into {} nodes",
-            r.split_nodes, r.split_graph_nodes
+            r.split_nodes,
+            r.split_graph_nodes
         );
     }
-    println!(
+    outln!(
         "; wrote {} (use it with `shapegen gallery --prior {}` or `shapegen run --prior {}`)",
         args.out.display(),
         args.out.display(),
@@ -399,7 +400,7 @@ fn evaluate(args: &DesignEvaluateArgs) -> Result<(), CliError> {
             .install(|| evaluate(task, &options))
             .map_err(|e| CliError::msg(format!("task {}: {e}", task.name)))?;
         if !args.quiet {
-            eprintln!(
+            errln!(
                 "{:10} JS default {:.4}, parameter {:.4}, structure {:.4}; GPR reaches 0.01 after {}, KDE after {}, interactive GPR after {} scored models ({:.0} s)",
                 r.task,
                 r.js_default,
@@ -495,12 +496,12 @@ fn evaluate(args: &DesignEvaluateArgs) -> Result<(), CliError> {
             1e-4,
             &panels,
         )? {
-            eprintln!("shapegen: warning: {w}");
+            errln!("shapegen: warning: {w}");
         }
         Ok(())
     })?;
-    print!("{table}");
-    println!(
+    out!("{table}");
+    outln!(
         "wrote evaluation.json, table.md and curves.png to {}",
         args.out.display()
     );
@@ -524,18 +525,18 @@ fn serve(cli: &Cli, args: &DesignServeArgs) -> Result<(), CliError> {
     server
         .serve(&address, |bound| {
             let url = format!("http://{bound}/");
-            println!(
+            outln!(
                 "designing the pdf of `{generator}` in {}: open {url} (Ctrl-C to stop; every score is saved as it is given)",
                 path.display()
             );
             if args.open {
                 let opener = if cfg!(target_os = "macos") { "open" } else if cfg!(windows) { "explorer" } else { "xdg-open" };
                 if std::process::Command::new(opener).arg(&url).spawn().is_err() {
-                    eprintln!("shapegen: could not open a browser; open {url} yourself");
+                    errln!("shapegen: could not open a browser; open {url} yourself");
                 }
             }
         }, &guard::interrupted)
         .map_err(CliError::msg)?;
-    println!("stopped; the session is saved in {}", path.display());
+    outln!("stopped; the session is saved in {}", path.display());
     Ok(())
 }

@@ -85,7 +85,7 @@ pub(super) fn gallery(cli: &Cli, args: &GalleryArgs) -> Result<(), CliError> {
         bar.finish_and_clear();
     }
     for note in &gallery.notes {
-        eprintln!("shapegen: note: {note}");
+        errln!("shapegen: note: {note}");
     }
     let title = match &args.prior {
         None => format!("What `{}` can make", experiment.generator()),
@@ -98,7 +98,7 @@ pub(super) fn gallery(cli: &Cli, args: &GalleryArgs) -> Result<(), CliError> {
     let written = guard::writing(|| gallery.write(&args.out, &experiment, &title))
         .map_err(|e| CliError::msg(e.to_string()))?;
     let v = gallery.best_view.viewpoint;
-    println!(
+    outln!(
         "gallery of `{}`: {} models in {} clusters, best view at azimuth {:.0}°, elevation {:.0}°, in {:.1} s; wrote {} files to {} (open {})",
         experiment.generator(),
         gallery.models.len(),

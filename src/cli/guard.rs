@@ -25,15 +25,15 @@ pub(super) fn catch_interrupts() {
         let installed = ctrlc::set_handler(|| {
             if INTERRUPTED.swap(true, Ordering::SeqCst) {
                 if WRITING.load(Ordering::SeqCst) {
-                    eprintln!("\nshapegen: writing the results; quitting when they are complete");
+                    errln!("\nshapegen: writing the results; quitting when they are complete");
                     return;
                 }
                 std::process::exit(130);
             }
-            eprintln!("\nshapegen: stopping; the generation in progress is dropped (Ctrl-C again to quit at once)");
+            errln!("\nshapegen: stopping; the generation in progress is dropped (Ctrl-C again to quit at once)");
         });
         if let Err(e) = installed {
-            eprintln!("shapegen: warning: cannot catch Ctrl-C: {e}");
+            errln!("shapegen: warning: cannot catch Ctrl-C: {e}");
         }
     });
 }

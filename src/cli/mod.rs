@@ -17,6 +17,8 @@
 //!
 //! `examples/custom_generator.rs` is a complete program.
 
+#[macro_use]
+mod say;
 pub mod args;
 mod compare;
 mod design;
@@ -140,7 +142,7 @@ impl Cli {
         match self.run_from(std::env::args_os()) {
             Ok(()) => ExitCode::SUCCESS,
             Err(e @ CliError::Interrupted(_)) => {
-                eprintln!("shapegen: {e}");
+                errln!("shapegen: {e}");
                 ExitCode::from(130)
             }
             Err(CliError::Args(e)) => {
@@ -148,10 +150,10 @@ impl Cli {
                 ExitCode::from(u8::try_from(e.exit_code()).unwrap_or(2))
             }
             Err(e) => {
-                eprintln!("shapegen: error: {e}");
+                errln!("shapegen: error: {e}");
                 let mut source = std::error::Error::source(&e);
                 while let Some(s) = source {
-                    eprintln!("  caused by: {s}");
+                    errln!("  caused by: {s}");
                     source = s.source();
                 }
                 ExitCode::FAILURE

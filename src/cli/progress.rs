@@ -111,7 +111,7 @@ impl<'a> Progress<'a> {
             bar.set_message(message);
         } else if self.last_line.elapsed() >= Duration::from_secs(2) || s.generation == 0 {
             self.last_line = Instant::now();
-            eprintln!(
+            errln!(
                 "  {:>3.0}% {message} ({secs:.1} s)",
                 fraction.min(1.0) * 100.0
             );

@@ -20,7 +20,7 @@ pub(super) fn render(cli: &Cli, args: &RenderArgs) -> Result<(), CliError> {
     guard::refuse_overwriting_inputs(&outputs, &inputs)?;
     let chromosome = read_chromosome(&experiment, path)?;
     let written = experiment.write_model(&chromosome, &args.out)?;
-    println!(
+    outln!(
         "fitness {:.4}, IoU {:.3} ({} genes) on `{}`; wrote {}",
         experiment.evaluate(&chromosome),
         mean_iou(&experiment.quality(&chromosome)),

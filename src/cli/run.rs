@@ -70,10 +70,10 @@ pub(super) fn run(cli: &Cli, args: &RunArgs) -> Result<(), CliError> {
     let threads = pool.current_num_threads();
     check_outputs(&experiment, args)?;
     for w in experiment.warnings_for(&[method]) {
-        eprintln!("shapegen: warning: {w}");
+        errln!("shapegen: warning: {w}");
     }
     if !args.quiet {
-        eprintln!(
+        errln!(
             "shapegen: {} on `{}` ({}, {}); {} thread(s), seed {seed}{}",
             method,
             experiment.name(),
@@ -113,7 +113,7 @@ pub(super) fn run(cli: &Cli, args: &RunArgs) -> Result<(), CliError> {
                 if let Err(e) = seal(s.checkpoint(), &curve).write(path) {
                     // The last good checkpoint is intact (writes are atomic):
                     // stop here and still write the results.
-                    eprintln!("\nshapegen: error: {e}; stopping and writing the results so far");
+                    errln!("\nshapegen: error: {e}; stopping and writing the results so far");
                     checkpoint_error = Some((s.generation, e));
                     return ControlFlow::Break(());
                 }
@@ -152,7 +152,7 @@ pub(super) fn run(cli: &Cli, args: &RunArgs) -> Result<(), CliError> {
     progress.finish();
     let stopped_by_user = result.stop == StopReason::Observer && checkpoint_error.is_none();
     if stopped_by_user {
-        eprintln!("shapegen: interrupted; writing the results so far");
+        errln!("shapegen: interrupted; writing the results so far");
     }
     let summary = Summary {
         threads,
@@ -183,14 +183,14 @@ pub(super) fn run(cli: &Cli, args: &RunArgs) -> Result<(), CliError> {
     }
     // A second Ctrl-C waits until the result files are complete.
     // The pictures render on the run's threads.
-    eprintln!(
+    errln!(
         "shapegen: writing the model, pictures and curve to {}",
         args.out.display()
     );
     let written = guard::writing(|| {
         pool.install(|| output::write_run(&experiment, &result, &curve, &summary, &args.out))
     })?;
-    println!(
+    outln!(
         "best fitness {:.4}{}, {} ({} genes) after {} generations, {} evaluations, {:.1} s",
         result.best_fitness,
         experiment
@@ -203,7 +203,7 @@ pub(super) fn run(cli: &Cli, args: &RunArgs) -> Result<(), CliError> {
         result.evaluations,
         result.elapsed.as_secs_f64()
     );
-    println!("wrote {}", list(&written));
+    outln!("wrote {}", list(&written));
     if let Some((generation, e)) = checkpoint_error {
         return Err(CliError::msg(format!(
             "the checkpoint could not be written at generation {generation} ({e}); the run stopped there and its results are in {}; the last checkpoint written before, if any, is intact",
