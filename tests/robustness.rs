@@ -1307,3 +1307,112 @@ fn closed_output_streams_never_cost_the_results() {
         }
     }
 }
+
+/// #54 finding 6: one output folder, one run. A second run on a folder in
+/// use is refused before it starts, naming the first; the first's files
+/// are its own.
+#[test]
+fn a_second_run_on_a_folder_in_use_is_refused() {
+    let mut case = Case::new("shared-out");
+    case.file(
+        "slow.toml",
+        SMALL.replace("generations = 3", "generations = 100000"),
+    );
+    case.file("e.toml", SMALL.replace("seed = 1", "seed = 2"));
+    let mut first = Command::new(env!("CARGO_BIN_EXE_shapegen"))
+        .args(["run", "slow.toml", "--seconds", "3", "-q", "--out", "out"])
+        .current_dir(&case.dir)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let lock = case.dir.join("out/.shapegen.lock");
+    let start = Instant::now();
+    while !std::fs::read_to_string(&lock).is_ok_and(|s| s.contains("slow.toml")) {
+        assert!(
+            start.elapsed() < LIMIT,
+            "the first run never took the folder"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    for command in [
+        &["run", "e.toml", "--out", "out"][..],
+        &[
+            "compare",
+            "e.toml",
+            "--seconds",
+            "0.2",
+            "--runs",
+            "1",
+            "--out",
+            "out",
+        ][..],
+        &["gallery", "e.toml", "--out", "out"][..],
+    ] {
+        let err = case.fails(
+            command,
+            &["another shapegen is writing to out", "slow.toml"],
+        );
+        assert!(err.contains("nothing was run"), "{err}");
+    }
+    assert_eq!(first.wait().unwrap().code(), Some(0));
+    let summary = json(&case.dir.join("out/summary.json"));
+    assert_eq!(summary["seed"], 1);
+    assert!(!lock.exists(), "the lock is gone with its run");
+    // Free again: the next run takes it.
+    case.succeeds(&["run", "e.toml", "-q", "--out", "out"]);
+    assert_eq!(json(&case.dir.join("out/summary.json"))["seed"], 2);
+}
+
+/// #54 finding 8: a disk that fills while a run writes its results leaves
+/// the previous run's set as it was, not a mix of old and new files.
+#[test]
+fn a_full_disk_while_writing_results_keeps_the_previous_set() {
+    let mut case = Case::new("full-results");
+    let small = case.dir.join("small");
+    std::fs::create_dir_all(&small).unwrap();
+    case.file("e.toml", SMALL);
+    // One set of results, to size the disk: room for it and a half.
+    case.succeeds(&["run", "e.toml", "-q", "--out", "sizing"]);
+    let size: usize = files(&case.dir.join("sizing")).values().map(Vec::len).sum();
+    let mounted = Command::new("mount")
+        .args([
+            "-t",
+            "tmpfs",
+            "-o",
+            &format!("size={}", size * 3 / 2 + 16384),
+            "tmpfs",
+        ])
+        .arg(&small)
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success());
+    if !mounted {
+        eprintln!("skipped: cannot mount a small tmpfs here (needs Linux and root)");
+        return;
+    }
+    let unmount = || Command::new("umount").arg(&small).status().ok();
+    let first = case.run(&["run", "e.toml", "-q", "--out", "small/out"]);
+    let before = files(&small.join("out"));
+    let second = case.run(&["run", "e.toml", "--seed", "9", "-q", "--out", "small/out"]);
+    let after = files(&small.join("out"));
+    let left: Vec<_> = std::fs::read_dir(small.join("out"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    unmount();
+    assert_eq!(first.code, Some(0), "{}", first.stderr);
+    assert_eq!(
+        second.code,
+        Some(1),
+        "the second set does not fit: {}",
+        second.stderr
+    );
+    assert!(second.stderr.contains("small/out"), "{}", second.stderr);
+    assert_eq!(before, after, "the first run's set is as it was");
+    assert!(
+        left.iter()
+            .all(|n| !n.starts_with(".shapegen") && !n.ends_with(".tmp")),
+        "{left:?}"
+    );
+}

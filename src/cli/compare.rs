@@ -129,7 +129,7 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
     if args.goal.is_some_and(|g| !g.is_finite()) {
         return Err(CliError::msg("--goal must be a finite fitness"));
     }
-    guard::check_output_dir(&args.out)?;
+    let _taken = guard::take_output_dir(&args.out)?;
     let mut outputs: Vec<std::path::PathBuf> =
         ["curves.csv", "runs.csv", "summary.json", "curves.png"]
             .iter()

@@ -107,7 +107,7 @@ fn sample(cli: &Cli, args: &DesignSampleArgs) -> Result<(), CliError> {
     }
     // Every output checked before anything is drawn.
     guard::check_output_file(path)?;
-    guard::check_output_dir(&args.out)?;
+    let _taken = guard::take_output_dir(&args.out)?;
     let scores_path = args.out.join("scores.json");
     guard::refuse_overwriting_inputs(
         &[
@@ -391,7 +391,7 @@ fn evaluate(args: &DesignEvaluateArgs) -> Result<(), CliError> {
         scored.dedup();
         options.scored = scored;
     }
-    guard::check_output_dir(&args.out)?;
+    let _taken = guard::take_output_dir(&args.out)?;
     let pool = thread_pool(args.threads)?;
     let mut reports: Vec<EvalReport> = Vec::new();
     for task in &tasks {

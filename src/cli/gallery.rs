@@ -25,7 +25,7 @@ pub(super) fn gallery(cli: &Cli, args: &GalleryArgs) -> Result<(), CliError> {
         ..GalleryOptions::default()
     };
     let pool = thread_pool(args.threads)?;
-    guard::check_output_dir(&args.out)?;
+    let _taken = guard::take_output_dir(&args.out)?;
     let mut outputs: Vec<_> = GALLERY_FILES.iter().map(|f| args.out.join(f)).collect();
     outputs.push(args.out.join("models"));
     let mut inputs = experiment.inputs().to_vec();

@@ -77,6 +77,76 @@ pub(super) fn check_output_dir(dir: &Path) -> Result<(), CliError> {
     Ok(())
 }
 
+/// An output folder taken by this process: a second shapegen on the same
+/// folder is refused until it is dropped (an advisory lock on
+/// `.shapegen.lock` in the folder, which the operating system releases
+/// even if the process is killed).
+#[must_use = "the folder is free again when the lock is dropped"]
+pub(super) struct OutputLock {
+    file: std::fs::File,
+    path: PathBuf,
+}
+
+impl Drop for OutputLock {
+    fn drop(&mut self) {
+        // Removed while still held: a process that opened it before is
+        // refused by the lock, one that opens it after makes a new one.
+        std::fs::remove_file(&self.path).ok();
+        self.file.unlock().ok();
+    }
+}
+
+/// [`check_output_dir`], then takes the folder for this run: a second run
+/// on it (in this or another process) is refused before it starts, naming
+/// the first.
+pub(super) fn take_output_dir(dir: &Path) -> Result<OutputLock, CliError> {
+    use std::io::{Read as _, Seek as _, Write as _};
+    check_output_dir(dir)?;
+    let path = dir.join(".shapegen.lock");
+    let fail = |e: std::io::Error| {
+        CliError::msg(format!(
+            "cannot take {} for this run: {e}; nothing was run",
+            dir.display()
+        ))
+    };
+    let mut file = std::fs::OpenOptions::new()
+        .create(true)
+        .truncate(false)
+        .read(true)
+        .write(true)
+        .open(&path)
+        .map_err(fail)?;
+    match file.try_lock() {
+        Ok(()) => {}
+        Err(std::fs::TryLockError::WouldBlock) => {
+            let mut holder = String::new();
+            file.read_to_string(&mut holder).ok();
+            let holder = holder.trim();
+            return Err(CliError::msg(format!(
+                "another shapegen is writing to {} ({}): wait for it to end or choose another --out; nothing was run",
+                dir.display(),
+                if holder.is_empty() {
+                    "it has just started"
+                } else {
+                    holder
+                }
+            )));
+        }
+        Err(std::fs::TryLockError::Error(e)) => return Err(fail(e)),
+    }
+    let command: Vec<String> = std::env::args().collect();
+    file.set_len(0).map_err(fail)?;
+    file.rewind().map_err(fail)?;
+    write!(
+        file,
+        "process {}: {}",
+        std::process::id(),
+        command.join(" ")
+    )
+    .map_err(fail)?;
+    Ok(OutputLock { file, path })
+}
+
 /// Checks that a file to be written can be, before a run: its folder exists
 /// and takes a probe file.
 pub(super) fn check_output_file(path: &Path) -> Result<(), CliError> {

@@ -9,7 +9,7 @@ pub(super) fn render(cli: &Cli, args: &RenderArgs) -> Result<(), CliError> {
     let experiment = cli.load_experiment(args.experiment.as_deref(), args.data.as_deref())?;
     let path = &args.chromosome;
     crate::experiment::check_regular_file(path).map_err(CliError::msg)?;
-    guard::check_output_dir(&args.out)?;
+    let _taken = guard::take_output_dir(&args.out)?;
     let outputs: Vec<_> = experiment
         .model_files()
         .iter()

@@ -68,7 +68,7 @@ pub(super) fn run(cli: &Cli, args: &RunArgs) -> Result<(), CliError> {
     };
     let pool = thread_pool(args.threads)?;
     let threads = pool.current_num_threads();
-    check_outputs(&experiment, args)?;
+    let _taken = check_outputs(&experiment, args)?;
     for w in experiment.warnings_for(&[method]) {
         errln!("shapegen: warning: {w}");
     }
@@ -216,14 +216,15 @@ pub(super) fn run(cli: &Cli, args: &RunArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// Before any work: the output folder takes files, the checkpoint's folder
-/// too, and no output is an input of the run (a checkpoint may replace the
+/// Before any work: the output folder takes files and is this run's alone
+/// (held until the lock returned is dropped), the checkpoint's folder takes
+/// files too, and no output is an input of the run (a checkpoint may replace the
 /// one resumed from).
 fn check_outputs(
     experiment: &crate::experiment::Experiment,
     args: &RunArgs,
-) -> Result<(), CliError> {
-    guard::check_output_dir(&args.out)?;
+) -> Result<guard::OutputLock, CliError> {
+    let taken = guard::take_output_dir(&args.out)?;
     let mut inputs = experiment.inputs().to_vec();
     if let Some(cp) = &args.checkpoint {
         guard::check_output_file(cp)?;
@@ -238,7 +239,8 @@ fn check_outputs(
         // The result files must not replace the checkpoint either.
         guard::refuse_overwriting_inputs(&outputs, std::slice::from_ref(cp))?;
     }
-    guard::refuse_overwriting_inputs(&outputs, &inputs)
+    guard::refuse_overwriting_inputs(&outputs, &inputs)?;
+    Ok(taken)
 }
 
 /// IoU, precision and recall per target, as one phrase.

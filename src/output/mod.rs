@@ -14,8 +14,11 @@
 //! | `curve.csv` | per generation: seconds, evaluations, best, mean, std | [`write_curve`] |
 //! | `summary.json` | the run's figures, IoU/precision/recall per target | [`Summary`] |
 //!
-//! [`write_run`] writes them all. Every file is written atomically (a
-//! temporary file beside it, then a rename).
+//! [`write_run`] writes them all, as a set: `summary.json` is renamed into
+//! place last, so a folder with a `summary.json` holds one run's files, and
+//! a run that cannot write them all (a full disk) leaves the previous set
+//! as it was. Every other file is written atomically too (a temporary file
+//! beside it, then a rename).
 //!
 //! ```
 //! use shapegen::experiment::{Experiment, Method};
@@ -190,6 +193,12 @@ pub fn write_population(
 /// Writes every result file of a run into `dir` (created if missing):
 /// the model and pictures, `best.json`, `curve.csv` and `summary.json`.
 /// Returns their paths.
+///
+/// The files are written as a set: first into a hidden folder in `dir`,
+/// then renamed into place with `summary.json` removed first and put back
+/// last, so `dir` never holds a `summary.json` beside files of another
+/// run. If any file cannot be written (a full disk), the hidden folder is
+/// removed and `dir` keeps the previous set untouched.
 pub fn write_run(
     experiment: &Experiment,
     result: &RunResult,
@@ -198,18 +207,47 @@ pub fn write_run(
     dir: &Path,
 ) -> Result<Vec<PathBuf>, ExperimentError> {
     std::fs::create_dir_all(dir).map_err(|e| ExperimentError::write(dir, e))?;
-    let mut written = experiment.write_model(&result.best, dir)?;
-    let population = dir.join("population.png");
-    write_population(experiment, result, summary.seed, &population)?;
-    written.push(population);
-    let best = dir.join("best.json");
-    write_chromosome(&best, experiment, &result.best)?;
-    let csv = dir.join("curve.csv");
-    write_curve(&csv, curve)?;
-    let json = dir.join("summary.json");
-    write_json(&json, summary)?;
-    written.extend([best, csv, json]);
-    Ok(written)
+    let staging = dir.join(format!(".shapegen-staging-{}", std::process::id()));
+    std::fs::remove_dir_all(&staging).ok();
+    std::fs::create_dir(&staging).map_err(|e| ExperimentError::write(&staging, e))?;
+    let staged = (|| {
+        let mut written = experiment.write_model(&result.best, &staging)?;
+        let population = staging.join("population.png");
+        write_population(experiment, result, summary.seed, &population)?;
+        written.push(population);
+        let best = staging.join("best.json");
+        write_chromosome(&best, experiment, &result.best)?;
+        let csv = staging.join("curve.csv");
+        write_curve(&csv, curve)?;
+        let json = staging.join("summary.json");
+        write_json(&json, summary)?;
+        written.extend([best, csv, json]);
+        Ok(written)
+    })();
+    let published = staged.and_then(|staged| publish(&staged, dir));
+    std::fs::remove_dir_all(&staging).ok();
+    published
+}
+
+/// Renames `staged` files into `dir`, `summary.json` (the set's seal) last
+/// and taken away first.
+fn publish(staged: &[PathBuf], dir: &Path) -> Result<Vec<PathBuf>, ExperimentError> {
+    let seal = dir.join("summary.json");
+    match std::fs::remove_file(&seal) {
+        Ok(()) => {}
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+        Err(e) => return Err(ExperimentError::write(&seal, e)),
+    }
+    let (seals, files): (Vec<&PathBuf>, Vec<&PathBuf>) = staged
+        .iter()
+        .partition(|p| p.file_name() == Some(std::ffi::OsStr::new("summary.json")));
+    let mut published = Vec::with_capacity(staged.len());
+    for from in files.into_iter().chain(seals) {
+        let to = dir.join(from.file_name().unwrap_or_default());
+        std::fs::rename(from, &to).map_err(|e| ExperimentError::write(&to, e))?;
+        published.push(to);
+    }
+    Ok(published)
 }
 
 /// Writes `chromosome` of `experiment`'s generator as JSON (`best.json`),
