@@ -1416,3 +1416,111 @@ fn a_full_disk_while_writing_results_keeps_the_previous_set() {
         "{left:?}"
     );
 }
+
+/// #54 finding 8: cameras that can never show the model are refused with
+/// the key that sets them.
+#[test]
+fn degenerate_cameras_are_refused() {
+    let mut case = Case::new("cameras");
+    png(&case, "cut.png", |c, _| {
+        if c < 4 { [0, 0, 0, 255] } else { [0, 0, 0, 0] }
+    });
+    let good = "camera = { phi = -1.5708, theta = 0.0, r = 9.0, look_at = [0.0, 3.0, 0.0] }";
+    for (camera, says) in [
+        ("r = 0.0", "r (its distance from look_at) is 0"),
+        ("r = -9.0", "is -9"),
+        ("r = 1e400", "r"),
+        ("phi = nan", "camera"),
+    ] {
+        let (key, value) = camera.split_once(" = ").unwrap();
+        let bad = good.replace(
+            &format!("{key} = {}", if key == "r" { "9.0" } else { "-1.5708" }),
+            &format!("{key} = {value}"),
+        );
+        case.file(
+            "e.toml",
+            image_experiment("cut.png", "").replace(good, &bad),
+        );
+        case.fails(&["run", "e.toml", "-q"], &[says]);
+    }
+    for camera in [
+        "camera = { eye = [0.0, 3.0, 9.0], target = [0.0, 3.0, 9.0] }",
+        "camera = { eye = [0.0, 3.0, 9.0], target = [0.0, 3.0, 0.0], up = [0.0, 0.0, 1.0] }",
+    ] {
+        case.file(
+            "e.toml",
+            image_experiment("cut.png", "").replace(good, camera),
+        );
+        case.fails(&["run", "e.toml", "-q"], &["eye ≠ target"]);
+    }
+}
+
+/// #54 finding 9: the minor points. An OBJ saved with a byte-order mark
+/// reads as without one; negative score weights pass with a warning; the
+/// design server's Ctrl-C speaks of the server.
+#[test]
+fn the_minor_points_of_the_sweep() {
+    let mut case = Case::new("minor");
+    let mesh = box_obj([-2.0, -2.0, 0.0], [2.0, 2.0, 12.0]);
+    case.file("plain.obj", &mesh);
+    case.file("bom.obj", format!("\u{feff}{mesh}"));
+    case.file("plain.toml", with_mesh("plain.obj"));
+    case.file("bom.toml", with_mesh("bom.obj"));
+    case.succeeds(&["run", "plain.toml", "-q", "--out", "plain"]);
+    case.succeeds(&["run", "bom.toml", "-q", "--out", "bom"]);
+    let fitness =
+        |dir: &str| json(&case.dir.join(dir).join("summary.json"))["best_fitness"].clone();
+    assert_eq!(fitness("plain"), fitness("bom"));
+    case.file("neg.toml", SMALL.replace("bad = 15.0", "bad = -15.0"));
+    let out = case.succeeds(&["run", "neg.toml", "--out", "neg"]);
+    assert!(
+        out.stderr.contains("bad = -15 is negative") && out.stderr.contains("use 15"),
+        "{}",
+        out.stderr
+    );
+    let out = case.succeeds(&["run", "plain.toml", "--out", "plain"]);
+    assert!(!out.stderr.contains("negative"), "{}", out.stderr);
+}
+
+#[cfg(unix)]
+#[test]
+fn ctrl_c_stops_the_design_server_saying_so() {
+    use std::io::{BufRead, BufReader, Read};
+    let case = Case::new("serve-stop");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_shapegen"))
+        .args(["design", "serve", "--port", "0"])
+        .current_dir(&case.dir)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdout = BufReader::new(child.stdout.take().unwrap());
+    let mut line = String::new();
+    stdout.read_line(&mut line).unwrap();
+    assert!(line.contains("open http://127.0.0.1:"), "{line}");
+    let pid = child.id().to_string();
+    assert!(
+        Command::new("kill")
+            .args(["-INT", &pid])
+            .status()
+            .unwrap()
+            .success()
+    );
+    let start = Instant::now();
+    let status = child.wait().unwrap();
+    assert!(
+        start.elapsed() < Duration::from_secs(2),
+        "{:?}",
+        start.elapsed()
+    );
+    let mut err = String::new();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    assert!(err.contains("stopping the server"), "{err}");
+    assert!(!err.contains("generation"), "{err}");
+    assert_eq!(status.code(), Some(0), "{err}");
+}

@@ -75,6 +75,11 @@ impl Camera {
         far: f64,
         size: (u32, u32),
     ) -> Result<Self, ScoreError> {
+        if !(r > 0.0 && r.is_finite()) {
+            return Err(ScoreError::Camera(format!(
+                "the orbit camera's r (its distance from look_at) is {r}: it must be a positive number, or the camera looks away from look_at"
+            )));
+        }
         let d = DVec3::new(
             theta.cos() * phi.cos(),
             theta.sin(),

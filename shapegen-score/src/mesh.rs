@@ -359,6 +359,10 @@ impl Mesh {
         reader
             .read_to_end(&mut bytes)
             .map_err(|e| bad(e.to_string()))?;
+        // Editors on Windows may start a UTF-8 file with a byte-order mark.
+        if bytes.starts_with(b"\xEF\xBB\xBF") {
+            bytes.drain(..3);
+        }
         check_obj_lines(&bytes).map_err(bad)?;
         let options = tobj::LoadOptions {
             single_index: true,

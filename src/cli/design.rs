@@ -522,6 +522,7 @@ fn serve(cli: &Cli, args: &DesignServeArgs) -> Result<(), CliError> {
     let server =
         crate::design::server::DesignServer::new(experiment, path, seed).map_err(CliError::msg)?;
     let address = format!("{}:{}", args.host, args.port);
+    guard::on_interrupt_say("stopping the server; every change is already saved");
     server
         .serve(&address, |bound| {
             let url = format!("http://{bound}/");

@@ -13,6 +13,17 @@ use super::CliError;
 /// poll it while they evaluate.
 static INTERRUPTED: LazyLock<Arc<AtomicBool>> = LazyLock::new(|| Arc::new(AtomicBool::new(false)));
 static WRITING: AtomicBool = AtomicBool::new(false);
+/// What the first Ctrl-C prints: what stopping means for the command.
+static STOPPING: std::sync::Mutex<&str> = std::sync::Mutex::new(
+    "stopping; the generation in progress is dropped (Ctrl-C again to quit at once)",
+);
+
+/// Sets what the first Ctrl-C prints (by default, what it means for a run).
+pub(super) fn on_interrupt_say(note: &'static str) {
+    *STOPPING
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner) = note;
+}
 
 /// Makes Ctrl-C (and SIGTERM) stop the run cleanly within one evaluation:
 /// the generation in progress is dropped and the results of the last
@@ -30,7 +41,10 @@ pub(super) fn catch_interrupts() {
                 }
                 std::process::exit(130);
             }
-            errln!("\nshapegen: stopping; the generation in progress is dropped (Ctrl-C again to quit at once)");
+            let note = *STOPPING
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner);
+            errln!("\nshapegen: {note}");
         });
         if let Err(e) = installed {
             errln!("shapegen: warning: cannot catch Ctrl-C: {e}");

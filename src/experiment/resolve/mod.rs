@@ -274,6 +274,7 @@ fn problem(
                 .error("", 0..0, "no scene: add a [volume] or an [image] table"));
         }
     };
+    let warnings: Vec<String> = weights.warnings().into_iter().chain(warnings).collect();
     let problem = generator
         .problem(graph, shapes, scene)
         .map_err(|e| ctx.err("shapes", &f.generator, e.to_string()))?;

@@ -80,6 +80,30 @@ impl Weights {
         Ok(weights)
     }
 
+    /// Warnings about weights that pass but likely say the opposite of what
+    /// was meant: a negative weight of the normalized form rewards what it
+    /// is named to penalize (or penalizes what it is named to reward).
+    pub fn warnings(&self) -> Vec<String> {
+        if self.form != ScoreForm::Normalized {
+            return Vec::new();
+        }
+        [
+            ("good", Some(self.good)),
+            ("bad", Some(self.bad)),
+            ("length", Some(self.length)),
+            ("overlap", self.overlap),
+        ]
+        .into_iter()
+        .filter_map(|(key, w)| w.filter(|w| *w < 0.0).map(|w| (key, w)))
+        .map(|(key, w)| {
+            format!(
+                "[score] {key} = {w} is negative: the normalized form's weights are magnitudes (a negative `{key}` turns its term around); use {} if that was not meant",
+                -w
+            )
+        })
+        .collect()
+    }
+
     /// Whether this is the paper's linear form (which reads the targets'
     /// own weights).
     pub fn is_paper(&self) -> bool {
