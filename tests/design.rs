@@ -487,3 +487,119 @@ fn edited_sessions_are_refused_whole() {
     fails(&dir, &["design", "learn"], "twice");
     assert_eq!(std::fs::read(&path).unwrap(), before, "nothing was saved");
 }
+
+/// Every JSON pointer in `v`, containers included.
+fn pointers(v: &serde_json::Value, at: String, out: &mut Vec<String>) {
+    match v {
+        serde_json::Value::Array(a) => {
+            for (i, x) in a.iter().enumerate() {
+                pointers(x, format!("{at}/{i}"), out);
+            }
+        }
+        serde_json::Value::Object(o) => {
+            for (k, x) in o {
+                pointers(
+                    x,
+                    format!("{at}/{}", k.replace('~', "~0").replace('/', "~1")),
+                    out,
+                );
+            }
+        }
+        _ => {}
+    }
+    out.push(at);
+}
+
+/// A learned session made through the library, as JSON.
+fn learned_session_json(graph: &Graph) -> serde_json::Value {
+    let mut s = Session::new("spaceship", graph, 5);
+    let shown = s.sample(graph, Mode::Default, 10).unwrap();
+    for (i, m) in shown.iter().enumerate() {
+        s.score(m.id, (i * 11) as f64).unwrap();
+    }
+    s.select_factor("second").unwrap();
+    s.sample(graph, Mode::Default, 3).unwrap();
+    s.learn(graph, shapegen::design::FactorOptions::default())
+        .unwrap();
+    serde_json::to_value(&s).unwrap()
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(400))]
+
+    /// The session loader over hand-edited files: up to four edits
+    /// anywhere (a number, a string, null, an empty list or table, a
+    /// removed entry); every file is refused with an error or loads into a
+    /// session that predicts, samples, describes and scores without a panic.
+    #[test]
+    fn edited_session_files_load_or_are_refused(
+        edits in proptest::collection::vec((proptest::prelude::any::<usize>(), 0u8..12), 1..5)
+    ) {
+        use std::sync::OnceLock;
+        static BASE: OnceLock<(Graph, serde_json::Value)> = OnceLock::new();
+        let (graph, base) = BASE.get_or_init(|| {
+            let g = shapegen::experiment::Experiment::builtin().graph().clone();
+            let v = learned_session_json(&g);
+            (g, v)
+        });
+        let mut v = base.clone();
+        for (at, kind) in edits {
+            let mut all = Vec::new();
+            pointers(&v, String::new(), &mut all);
+            // Models' packed words are most of the leaves: three edits in
+            // four go elsewhere.
+            if at % 4 != 0 {
+                all.retain(|p| !p.contains("/model/"));
+            }
+            let path = &all[at % all.len()];
+            let replacement = match kind {
+                0 => serde_json::json!(0),
+                1 => serde_json::json!(-1),
+                2 => serde_json::json!(1e300),
+                3 => serde_json::json!(u64::MAX),
+                4 => serde_json::json!("x"),
+                5 => serde_json::Value::Null,
+                6 => serde_json::json!([]),
+                7 => serde_json::json!({}),
+                8 => serde_json::json!(1),
+                9 => serde_json::json!(0.5),
+                _ => {
+                    // Remove the entry from its container.
+                    let (parent, key) = path.rsplit_once('/').unwrap_or(("", ""));
+                    match v.pointer_mut(parent) {
+                        Some(serde_json::Value::Array(a)) => {
+                            if let Ok(i) = key.parse::<usize>() && i < a.len() { a.remove(i); }
+                        }
+                        Some(serde_json::Value::Object(o)) => { o.remove(&key.replace("~1", "/").replace("~0", "~")); }
+                        _ => {}
+                    }
+                    continue;
+                }
+            };
+            if let Some(x) = v.pointer_mut(path) {
+                *x = replacement;
+            }
+        }
+        let dir = TempDir::new("design", "fuzz");
+        let path = dir.join("session.json");
+        std::fs::write(&path, serde_json::to_vec(&v).unwrap()).unwrap();
+        let loaded = Session::load(&path, "spaceship", graph);
+        if let Ok(mut s) = loaded {
+            let models = s.sample(graph, Mode::Default, 2);
+            if let Some(p) = &s.learned {
+                for f in &p.factors {
+                    let _ = f.top_features(graph, 5);
+                }
+                if let Ok(m) = &models {
+                    let _ = p.predict(graph, &m[0].model);
+                    let _ = p.distance(graph, &m[0].model, &m[1].model);
+                }
+            }
+            let _ = s.sample(graph, Mode::Scored, 4);
+            if let Ok(m) = models {
+                let _ = s.score(m[0].id, 50.0);
+            }
+            let _ = s.save(&path);
+        }
+    }
+}
