@@ -219,9 +219,9 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
             }
         }
     }
-    let out = &args.out;
-    std::fs::create_dir_all(out)
-        .map_err(|e| CliError::msg(format!("cannot create {}: {e}", out.display())))?;
+    // Written as a set: staged, then moved in with summary.json last.
+    let stage = output::Stage::new(&args.out)?;
+    let out = stage.path();
     let times: Vec<f64> = (0..=GRID)
         .map(|k| args.seconds * k as f64 / GRID as f64)
         .collect();
@@ -377,6 +377,8 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
     )? {
         errln!("shapegen: warning: {warning}");
     }
+    stage.publish()?;
+    let out = &args.out;
     outln!(
         "{:<8} {:>12} {:>12} {:>12}   {:>6} {:>6} {:>6} {:>12}",
         "method",

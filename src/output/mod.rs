@@ -206,48 +206,98 @@ pub fn write_run(
     summary: &Summary,
     dir: &Path,
 ) -> Result<Vec<PathBuf>, ExperimentError> {
-    std::fs::create_dir_all(dir).map_err(|e| ExperimentError::write(dir, e))?;
-    let staging = dir.join(format!(".shapegen-staging-{}", std::process::id()));
-    std::fs::remove_dir_all(&staging).ok();
-    std::fs::create_dir(&staging).map_err(|e| ExperimentError::write(&staging, e))?;
-    let staged = (|| {
-        let mut written = experiment.write_model(&result.best, &staging)?;
-        let population = staging.join("population.png");
-        write_population(experiment, result, summary.seed, &population)?;
-        written.push(population);
-        let best = staging.join("best.json");
-        write_chromosome(&best, experiment, &result.best)?;
-        let csv = staging.join("curve.csv");
-        write_curve(&csv, curve)?;
-        let json = staging.join("summary.json");
-        write_json(&json, summary)?;
-        written.extend([best, csv, json]);
-        Ok(written)
-    })();
-    let published = staged.and_then(|staged| publish(&staged, dir));
-    std::fs::remove_dir_all(&staging).ok();
-    published
+    let stage = Stage::new(dir)?;
+    let staging = stage.path();
+    experiment.write_model(&result.best, staging)?;
+    write_population(
+        experiment,
+        result,
+        summary.seed,
+        &staging.join("population.png"),
+    )?;
+    write_chromosome(&staging.join("best.json"), experiment, &result.best)?;
+    write_curve(&staging.join("curve.csv"), curve)?;
+    write_json(&staging.join("summary.json"), summary)?;
+    stage.publish()
 }
 
-/// Renames `staged` files into `dir`, `summary.json` (the set's seal) last
-/// and taken away first.
-fn publish(staged: &[PathBuf], dir: &Path) -> Result<Vec<PathBuf>, ExperimentError> {
-    let seal = dir.join("summary.json");
-    match std::fs::remove_file(&seal) {
-        Ok(()) => {}
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
-        Err(e) => return Err(ExperimentError::write(&seal, e)),
+/// A set of result files written into a hidden folder inside their
+/// output folder, then renamed into place by [`publish`](Self::publish)
+/// with `summary.json` (the set's seal) taken away first and put back
+/// last. Dropped unpublished (an error while writing), it removes the
+/// hidden folder and the output folder keeps its previous set.
+pub struct Stage {
+    dir: PathBuf,
+    staging: PathBuf,
+}
+
+impl Stage {
+    /// A stage for `dir` (created if missing).
+    pub fn new(dir: &Path) -> Result<Self, ExperimentError> {
+        std::fs::create_dir_all(dir).map_err(|e| ExperimentError::write(dir, e))?;
+        let staging = dir.join(format!(".shapegen-staging-{}", std::process::id()));
+        std::fs::remove_dir_all(&staging).ok();
+        std::fs::create_dir(&staging).map_err(|e| ExperimentError::write(&staging, e))?;
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            staging,
+        })
     }
-    let (seals, files): (Vec<&PathBuf>, Vec<&PathBuf>) = staged
-        .iter()
-        .partition(|p| p.file_name() == Some(std::ffi::OsStr::new("summary.json")));
-    let mut published = Vec::with_capacity(staged.len());
-    for from in files.into_iter().chain(seals) {
-        let to = dir.join(from.file_name().unwrap_or_default());
-        std::fs::rename(from, &to).map_err(|e| ExperimentError::write(&to, e))?;
-        published.push(to);
+
+    /// The hidden folder to write the set into (subfolders allowed).
+    #[must_use]
+    pub fn path(&self) -> &Path {
+        &self.staging
     }
-    Ok(published)
+
+    /// Moves the set into the output folder, `summary.json` last; returns
+    /// the published files' paths, in the order written.
+    pub fn publish(self) -> Result<Vec<PathBuf>, ExperimentError> {
+        let mut files = Vec::new();
+        staged_files(&self.staging, &mut files)
+            .map_err(|e| ExperimentError::write(&self.staging, e))?;
+        let seal = self.dir.join("summary.json");
+        match std::fs::remove_file(&seal) {
+            Ok(()) => {}
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+            Err(e) => return Err(ExperimentError::write(&seal, e)),
+        }
+        let (seals, rest): (Vec<PathBuf>, Vec<PathBuf>) = files
+            .into_iter()
+            .partition(|p| *p == self.staging.join("summary.json"));
+        let mut published = Vec::new();
+        for from in rest.into_iter().chain(seals) {
+            let to = self
+                .dir
+                .join(from.strip_prefix(&self.staging).unwrap_or(&from));
+            if let Some(parent) = to.parent() {
+                std::fs::create_dir_all(parent).map_err(|e| ExperimentError::write(parent, e))?;
+            }
+            std::fs::rename(&from, &to).map_err(|e| ExperimentError::write(&to, e))?;
+            published.push(to);
+        }
+        Ok(published)
+    }
+}
+
+impl Drop for Stage {
+    fn drop(&mut self) {
+        std::fs::remove_dir_all(&self.staging).ok();
+    }
+}
+
+/// Every file below `dir`, in the order the directory lists them.
+fn staged_files(dir: &Path, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
+    let mut entries: Vec<_> = std::fs::read_dir(dir)?.collect::<Result<_, _>>()?;
+    entries.sort_by_key(std::fs::DirEntry::file_name);
+    for e in entries {
+        if e.file_type()?.is_dir() {
+            staged_files(&e.path(), out)?;
+        } else {
+            out.push(e.path());
+        }
+    }
+    Ok(())
 }
 
 /// Writes `chromosome` of `experiment`'s generator as JSON (`best.json`),
