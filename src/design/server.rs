@@ -30,7 +30,7 @@
 //! A request that names an older revision than the session's is refused with
 //! 409: another tab or window changed the session since this page loaded it.
 //!
-//! Only the page itself is answered (see [`http`](super::http)): a request
+//! Only the page itself is answered: a request
 //! whose `Host` is not this server's address gets 403 (a site that rebinds
 //! its name to 127.0.0.1), and so does a `POST` without the page's own
 //! `Origin`; a `POST` that is not `application/json` gets 415. Bodies are
@@ -625,9 +625,9 @@ impl DesignServer {
     /// Serves on `address` (e.g. `127.0.0.1:8765`; port 0 picks a free one)
     /// until `stop` returns true (looked at ten times a second); `ready` is
     /// called with the bound address. Every change was saved when it was
-    /// answered, so stopping loses nothing. Requests are read and checked as
-    /// [`http`](super::http) says: bounded in size and time, and only from
-    /// this server's own page.
+    /// answered, so stopping loses nothing. Requests are bounded in size and
+    /// time and answered only from this server's own page (see the module's
+    /// documentation).
     pub fn serve(
         &self,
         address: &str,
