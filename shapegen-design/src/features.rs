@@ -104,9 +104,8 @@ impl FeatureKey {
     /// components and slots exist (a key read from a file is checked so
     /// before [`describe`](Self::describe) or a model meets it).
     pub fn check(&self, graph: &Graph) -> Result<(), String> {
-        let node_of = |node: u32| (node as usize) < graph.node_count();
         let spec = |node: u32| {
-            if node_of(node) {
+            if (node as usize) < graph.node_count() {
                 Ok(graph.node(node as NodeId))
             } else {
                 Err(format!(

@@ -55,7 +55,8 @@ pub struct Head {
 }
 
 impl Head {
-    /// The value of header `name` (lower case), if it is present once.
+    /// The first value of header `name` (lower case), if present
+    /// ([`parse_head`] refuses repeats of the headers the checks read).
     #[must_use]
     pub fn header(&self, name: &str) -> Option<&str> {
         self.headers
@@ -295,16 +296,6 @@ fn write_answer(stream: &mut TcpStream, answer: &Reply, head_only: bool) -> std:
     stream.flush()
 }
 
-fn refused(status: u16, reason: &str) -> Reply {
-    Reply {
-        status,
-        content_type: "application/json",
-        body: serde_json::json!({ "error": reason })
-            .to_string()
-            .into_bytes(),
-    }
-}
-
 /// Why a connection ended without a request to answer.
 enum Ended {
     /// The client closed, went silent past the deadline, or the server is stopping.
@@ -430,7 +421,7 @@ fn serve_connection(
             write_answer(&mut stream, &reply, head_only).ok();
         }
         Err(Ended::Refused(r)) => {
-            write_answer(&mut stream, &refused(r.status, &r.reason), false).ok();
+            write_answer(&mut stream, &Reply::error(r.status, r.reason), false).ok();
         }
         Err(Ended::Quietly) => {}
     }
@@ -458,7 +449,7 @@ pub fn serve(
                     stream.set_nonblocking(false).ok();
                     if active.load(Ordering::SeqCst) >= MAX_CONNECTIONS {
                         stream.set_write_timeout(Some(POLL)).ok();
-                        let busy = refused(503, "the server is busy: try again");
+                        let busy = Reply::error(503, "the server is busy: try again");
                         write_answer(&mut stream, &busy, false).ok();
                         continue;
                     }

@@ -77,7 +77,8 @@ impl Reply {
         }
     }
 
-    fn error(status: u16, message: impl Into<String>) -> Self {
+    /// A JSON error answer: `{"error": message}`.
+    pub(super) fn error(status: u16, message: impl Into<String>) -> Self {
         Self::json(status, &json!({ "error": message.into() }))
     }
 
@@ -268,10 +269,10 @@ impl DesignServer {
             Ok(())
         };
         let mut state = self.lock();
-        let current = state.session.revision;
         if self.refresh(&mut state) {
             return Reply::error(409, CHANGED_ELSEWHERE);
         }
+        let current = state.session.revision;
         let check = |revision: Option<u64>| -> Result<(), Reply> {
             match revision {
                 Some(r) if r != current => Err(Reply::error(409, CHANGED_ELSEWHERE)),

@@ -230,7 +230,7 @@ pub struct Session {
     read_at: Option<u64>,
 }
 
-/// What [`Session::save`] reads of the file on disk to see whether it changed.
+/// What [`Session::revision_on_disk`] reads of the file.
 #[derive(Deserialize)]
 struct OnDisk {
     #[serde(default)]
@@ -390,18 +390,7 @@ impl Session {
             .open(path.with_file_name(lock_name))
             .map_err(io)?;
         lock.lock().map_err(io)?;
-        let on_disk = match std::fs::read(path) {
-            Ok(bytes) => Some(
-                serde_json::from_slice::<OnDisk>(&bytes)
-                    .map_err(|e| SessionError::Format {
-                        path: path.display().to_string(),
-                        why: e.to_string(),
-                    })?
-                    .revision,
-            ),
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
-            Err(e) => return Err(io(e)),
-        };
+        let on_disk = Self::revision_on_disk(path)?;
         // A file removed since it was read loses nothing by being written.
         if on_disk.is_some() && on_disk != self.read_at {
             let show = |r: Option<u64>| r.map_or_else(|| "none".into(), |r| r.to_string());
@@ -413,7 +402,7 @@ impl Session {
         }
         let mut next = self.clone();
         next.revision = match self.read_at {
-            Some(r) => r.max(self.revision) + 1,
+            Some(r) => r + 1,
             None => self.revision,
         };
         let text = serde_json::to_string_pretty(&next).map_err(|e| SessionError::Format {

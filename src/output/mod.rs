@@ -251,7 +251,7 @@ impl Stage {
     }
 
     /// Moves the set into the output folder, `summary.json` last; returns
-    /// the published files' paths, in the order written.
+    /// the published files' paths, by name with `summary.json` last.
     pub fn publish(self) -> Result<Vec<PathBuf>, ExperimentError> {
         let mut files = Vec::new();
         staged_files(&self.staging, &mut files)
@@ -286,7 +286,7 @@ impl Drop for Stage {
     }
 }
 
-/// Every file below `dir`, in the order the directory lists them.
+/// Every file below `dir`, sorted by name within each folder.
 fn staged_files(dir: &Path, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
     let mut entries: Vec<_> = std::fs::read_dir(dir)?.collect::<Result<_, _>>()?;
     entries.sort_by_key(std::fs::DirEntry::file_name);
