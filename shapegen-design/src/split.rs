@@ -156,6 +156,7 @@ impl SplitGraph {
             .map(|(&(n, _), name)| {
                 let old = g.node(n);
                 NodeSpec {
+                    tags: old.tags.clone(),
                     name: Cow::Owned(name.clone()),
                     params: old.params.clone(),
                     slots: Cow::Owned(

@@ -48,6 +48,8 @@ pub struct Node {
     pub consts: Vec<Const>,
     pub params: Vec<Param>,
     pub slots: Vec<Slot>,
+    /// Semantic tags: one shared by every member, or `each[..]` one per member.
+    pub tags: Vec<PerMember<Ident>>,
     /// The state binding of the body closure (`|scope|`, `|mut s|`).
     pub binder: Pat,
     /// The body's tokens (a brace-delimited group).

@@ -27,6 +27,7 @@ pub fn generator(cx: &Ctxt, g: &Generator) {
     for n in &g.nodes {
         check_each_counts(cx, n);
         check_node_names(cx, n);
+        check_tags(cx, n);
         for p in &n.params {
             for d in p.dist.all() {
                 check_distribution(cx, p, d);
@@ -171,6 +172,47 @@ fn check_each_counts(cx: &Ctxt, n: &Node) {
     for c in &n.consts {
         if let PerMember::Each { span, values } = &c.value {
             check(*span, values.len());
+        }
+    }
+    for t in &n.tags {
+        if let PerMember::Each { span, values } = t {
+            check(*span, values.len());
+        }
+    }
+}
+
+/// Tags name semantic matches between generators (the thesis's §5.4.1): they
+/// must read the same in a transformation file (ASCII words, as
+/// `graph::check_tag` requires) and a tag given twice to one node is a slip.
+fn check_tags(cx: &Ctxt, n: &Node) {
+    for t in &n.tags {
+        for tag in t.all() {
+            let word = tag.to_string();
+            let word = word.strip_prefix("r#").unwrap_or(&word);
+            let bad = if word.len() > 64 {
+                Some("a tag is at most 64 characters long")
+            } else if !word.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_') {
+                Some("a tag holds only ASCII letters, digits and `_`")
+            } else {
+                None
+            };
+            if let Some(reason) = bad {
+                cx.error(tag.span(), format!("tag `{word}`: {reason}"));
+            }
+        }
+    }
+    for m in 0..n.members.len() {
+        let mut seen = HashSet::new();
+        for t in &n.tags {
+            let tag = t.get(m);
+            if !seen.insert(tag.to_string()) {
+                let who = if n.is_family() {
+                    format!("node `{}`", n.members[m])
+                } else {
+                    format!("node `{}`", n.name())
+                };
+                cx.error(tag.span(), format!("{who} has tag `{tag}` twice"));
+            }
         }
     }
 }

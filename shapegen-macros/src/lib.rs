@@ -119,7 +119,7 @@ mod paths;
 ///   default `Scope` (an oriented box) starting as `Scope::UNIT`.
 /// - `crate: path;` (optional): where the runtime lives (default `::shapegen`;
 ///   `::shapegen_core` when only the core crate is a dependency).
-/// - `node Name [emits] { consts {..} params {..} slots {..} |state| { body } }`,
+/// - `node Name [emits] { consts {..} params {..} slots {..} tags {..} |state| { body } }`,
 ///   sections optional and in any order. `emits` marks nodes that emit
 ///   geometry (required if the body uses `emit!`).
 ///   - parameters, locals of the body:
@@ -138,6 +138,9 @@ mod paths;
 ///     evaluated as a real number (`1 / 3` is one third).
 ///   - constants: `name: Type = value`, locals of the body like parameters
 ///     but not part of the genome.
+///   - tags: `tags { branching, segment }`, words naming what the node makes;
+///     nodes of two generators that share a tag correspond in a design
+///     transformation (`shapegen::transform`). Not part of the genome.
 ///   - the body is ordinary Rust with the incoming state bound by the closure
 ///     pattern, plus `emit!(shape, transform)` (an `Affine3A` placing the unit
 ///     mesh), `child!(slot, state)` (schedules the child if it is expressed;
@@ -145,7 +148,7 @@ mod paths;
 ///     child exists).
 /// - `node A, B, C [emits] { .. }`: a *family*, one graph node per member (ids
 ///   in the order written) sharing the sections and the body. Any parameter
-///   distribution, slot probability or constant may be given per member as
+///   distribution, slot probability, constant or tag may be given per member as
 ///   `each[for_a, for_b, for_c]`.
 ///
 /// A declaration can be produced by `macro_rules!`, passing bodies as `block`

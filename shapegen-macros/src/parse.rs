@@ -24,6 +24,7 @@ mod kw {
     syn::custom_keyword!(params);
     syn::custom_keyword!(slots);
     syn::custom_keyword!(consts);
+    syn::custom_keyword!(tags);
     syn::custom_keyword!(each);
     syn::custom_keyword!(choice);
     syn::custom_keyword!(max_depth);
@@ -34,7 +35,7 @@ mod kw {
 /// The items a declaration may hold after `struct Name;`.
 const ITEMS: [&str; 6] = ["shapes", "start", "limits", "state", "crate", "node"];
 /// The sections of a node, before its body.
-const SECTIONS: [&str; 3] = ["params", "slots", "consts"];
+const SECTIONS: [&str; 4] = ["params", "slots", "consts", "tags"];
 /// The keys of `limits: { ... }`.
 const LIMIT_KEYS: [&str; 3] = ["max_depth", "min_len", "max_len"];
 
@@ -180,7 +181,8 @@ fn parse_node(input: ParseStream, _attrs: Vec<Attribute>) -> syn::Result<Node> {
     }
     let content;
     braced!(content in input);
-    let (mut consts, mut params, mut slots) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut consts, mut params, mut slots, mut tags) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     loop {
         let look = content.lookahead1();
         if look.peek(kw::params) {
@@ -198,6 +200,16 @@ fn parse_node(input: ParseStream, _attrs: Vec<Attribute>) -> syn::Result<Node> {
             let inner;
             braced!(inner in content);
             consts.extend(Punctuated::<Const, Token![,]>::parse_terminated(&inner)?);
+        } else if look.peek(kw::tags) {
+            content.parse::<kw::tags>()?;
+            let inner;
+            braced!(inner in content);
+            while !inner.is_empty() {
+                tags.push(per_member(&inner, parse_tag)?);
+                if !inner.is_empty() {
+                    inner.parse::<Token![,]>()?;
+                }
+            }
         } else if look.peek(Token![|]) {
             break;
         } else if let Some(word) = peek_word(&content) {
@@ -207,8 +219,8 @@ fn parse_node(input: ParseStream, _attrs: Vec<Attribute>) -> syn::Result<Node> {
                     &format!("unknown section `{word}`"),
                     &word.to_string(),
                     SECTIONS,
-                    "a node holds `params {..}`, `slots {..}` and `consts {..}`, then its body \
-                     `|state| { .. }`",
+                    "a node holds `params {..}`, `slots {..}`, `consts {..}` and `tags {..}`, \
+                     then its body `|state| { .. }`",
                 ),
             ));
         } else {
@@ -234,9 +246,32 @@ fn parse_node(input: ParseStream, _attrs: Vec<Attribute>) -> syn::Result<Node> {
         consts,
         params,
         slots,
+        tags,
         binder,
         body: body.into(),
     })
+}
+
+/// One tag: a plain word (`branching`), not a string or a path.
+fn parse_tag(input: ParseStream) -> syn::Result<Ident> {
+    if input.peek(syn::Lit) {
+        let lit: syn::Lit = input.parse()?;
+        return Err(syn::Error::new(
+            lit.span(),
+            "a tag is a plain word, not a literal: `tags { branching }`",
+        ));
+    }
+    let tag: Ident = input.call(syn::ext::IdentExt::parse_any)?;
+    if input.peek(Token![::]) || input.peek(Token![.]) || input.peek(Token![-]) {
+        return Err(syn::Error::new(
+            input.span(),
+            format!(
+                "a tag is one word of letters, digits and `_`: write `{tag}_..` instead of \
+                 joining words with punctuation"
+            ),
+        ));
+    }
+    Ok(tag)
 }
 
 /// A `macro_rules!` fragment (`$body:block`) arrives wrapped in an invisible

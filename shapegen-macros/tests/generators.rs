@@ -32,3 +32,12 @@ mod families_and_short_forms {
         main();
     }
 }
+
+mod tags {
+    include!("pass/tags.rs");
+
+    #[test]
+    fn runs() {
+        main();
+    }
+}

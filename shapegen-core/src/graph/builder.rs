@@ -69,9 +69,11 @@ impl GraphBuilder {
                 params: Cow::Borrowed(&[]),
                 slots: Cow::Borrowed(&[]),
                 emits: false,
+                tags: Cow::Borrowed(&[]),
             },
             params: Vec::new(),
             slots: Vec::new(),
+            tags: Vec::new(),
         });
         self.nodes.push(node.finish());
         self
@@ -98,9 +100,17 @@ pub struct NodeBuilder {
     node: NodeSpec,
     params: Vec<ParamSpec>,
     slots: Vec<SlotSpec>,
+    tags: Vec<Cow<'static, str>>,
 }
 
 impl NodeBuilder {
+    /// Adds a semantic tag (see [`NodeSpec::tags`]); a malformed or repeated
+    /// tag is reported by [`GraphBuilder::build`].
+    pub fn tag(mut self, tag: impl Into<String>) -> Self {
+        self.tags.push(Cow::Owned(tag.into()));
+        self
+    }
+
     /// Marks the node as emitting geometry.
     pub fn emits(mut self) -> Self {
         self.node.emits = true;
@@ -155,6 +165,7 @@ impl NodeBuilder {
         NodeSpec {
             params: Cow::Owned(self.params),
             slots: Cow::Owned(self.slots),
+            tags: Cow::Owned(self.tags),
             ..self.node
         }
     }

@@ -272,6 +272,21 @@ pub(super) fn check(spec: &GraphSpec) -> Vec<GraphError> {
                 });
             }
         }
+        let mut tags = HashSet::new();
+        for t in n.tags.iter() {
+            if let Some(reason) = super::spec::check_tag(t) {
+                errors.push(GraphError::BadTag {
+                    node: node(),
+                    tag: t.to_string(),
+                    reason,
+                });
+            } else if !tags.insert(t.as_ref()) {
+                errors.push(GraphError::DuplicateTag {
+                    node: node(),
+                    tag: t.to_string(),
+                });
+            }
+        }
         if n.slots.len() > MAX_SLOTS {
             errors.push(GraphError::TooManySlots {
                 node: node(),

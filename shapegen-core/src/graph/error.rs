@@ -94,6 +94,24 @@ pub enum GraphError {
         /// The unreachable node.
         node: String,
     },
+    /// A node's tag is malformed (see [`check_tag`](super::check_tag)).
+    #[error("node `{node}` has tag `{tag}`: {reason}")]
+    BadTag {
+        /// The node.
+        node: String,
+        /// The tag as given.
+        tag: String,
+        /// What is wrong.
+        reason: &'static str,
+    },
+    /// A node carries one tag twice.
+    #[error("node `{node}` has tag `{tag}` more than once")]
+    DuplicateTag {
+        /// The node.
+        node: String,
+        /// The repeated tag.
+        tag: String,
+    },
     /// The limits are contradictory.
     #[error("bad limits: {reason}")]
     BadLimits {

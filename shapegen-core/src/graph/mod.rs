@@ -15,7 +15,9 @@ pub use builder::{GraphBuilder, NodeBuilder};
 pub use compiled::{Edge, EdgeId, Graph, MAX_NODES, MAX_SLOTS, NodeId, NodeLayout, WEIGHT_ONE};
 pub use dist::{Dist, IntDist};
 pub use error::{GraphError, GraphErrors};
-pub use spec::{GraphSpec, Limits, NodeSpec, ParamDist, ParamKind, ParamSpec, SlotSpec};
+pub use spec::{
+    GraphSpec, Limits, MAX_TAG_LEN, NodeSpec, ParamDist, ParamKind, ParamSpec, SlotSpec, check_tag,
+};
 
 #[cfg(test)]
 mod tests;

@@ -221,6 +221,12 @@ pub struct NodeSpec {
     pub slots: Cow<'static, [SlotSpec]>,
     /// Whether expressing this node emits geometry (SMC/SOSMC end a step on such a node).
     pub emits: bool,
+    /// Semantic tags (`branching`, `segment`, `roof`): two generators' nodes
+    /// that share a tag correspond in a design transformation (thesis §5.4.1).
+    /// Each is a word of ASCII letters, digits and `_`; see [`check_tag`].
+    /// They play no part in the genome: a graph's fingerprint ignores them.
+    #[serde(default, skip_serializing_if = "<[_]>::is_empty")]
+    pub tags: Cow<'static, [Cow<'static, str>]>,
 }
 
 impl NodeSpec {
@@ -237,6 +243,7 @@ impl NodeSpec {
             params: Cow::Borrowed(params),
             slots: Cow::Borrowed(slots),
             emits,
+            tags: Cow::Borrowed(&[]),
         }
     }
 }
@@ -283,6 +290,27 @@ impl Limits {
 impl Default for Limits {
     fn default() -> Self {
         Self::NONE
+    }
+}
+
+/// The longest tag, in bytes.
+pub const MAX_TAG_LEN: usize = 64;
+
+/// Why `tag` is not a valid node tag, if it is not: a tag is 1 to
+/// [`MAX_TAG_LEN`] ASCII letters, digits and `_`, not starting with a digit
+/// (a word that reads the same in `generator!`, a builder and a file).
+#[must_use]
+pub fn check_tag(tag: &str) -> Option<&'static str> {
+    if tag.is_empty() {
+        Some("a tag cannot be empty")
+    } else if tag.len() > MAX_TAG_LEN {
+        Some("a tag is at most 64 characters long")
+    } else if !tag.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_') {
+        Some("a tag holds only ASCII letters, digits and `_`")
+    } else if tag.as_bytes()[0].is_ascii_digit() {
+        Some("a tag cannot start with a digit")
+    } else {
+        None
     }
 }
 

@@ -124,3 +124,35 @@ fn spec_serde_round_trips() {
     let back: GraphSpec = serde_json::from_str(&json).unwrap();
     assert_eq!(back, spec);
 }
+
+#[test]
+fn builder_tags_are_checked_and_leave_the_fingerprint_alone() {
+    use super::{GraphBuilder, GraphError};
+    let graph = |tags: &[&str]| {
+        let tags: Vec<String> = tags.iter().map(ToString::to_string).collect();
+        GraphBuilder::new("g")
+            .start("S")
+            .node("S", move |mut n| {
+                for t in tags {
+                    n = n.tag(t);
+                }
+                n
+            })
+            .build()
+    };
+    let tagged = graph(&["trunk", "mass_lvl0"]).unwrap();
+    let id = tagged.node_id("S").unwrap();
+    assert_eq!(tagged.node(id).tags.as_ref(), ["trunk", "mass_lvl0"]);
+    assert_eq!(tagged.fingerprint(), graph(&[]).unwrap().fingerprint());
+    let errors = graph(&["", "a b", "9lives", "ok", "ok"]).unwrap_err();
+    let kinds: Vec<_> = errors
+        .errors()
+        .iter()
+        .map(|e| match e {
+            GraphError::BadTag { tag, .. } => format!("bad {tag}"),
+            GraphError::DuplicateTag { tag, .. } => format!("twice {tag}"),
+            other => format!("{other}"),
+        })
+        .collect();
+    assert_eq!(kinds, ["bad ", "bad a b", "bad 9lives", "twice ok"]);
+}

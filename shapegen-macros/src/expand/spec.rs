@@ -82,6 +82,11 @@ fn node_spec(krate: &Path, n: &Node, m: usize) -> TokenStream {
     let params = n.params.iter().map(|p| param_spec(krate, p, p.dist.get(m)));
     let slots = n.slots.iter().map(|s| slot_specs(krate, s, m));
     let emits = n.emits;
+    let tags = n.tags.iter().map(|t| {
+        let word = t.get(m).to_string();
+        let word = word.strip_prefix("r#").unwrap_or(&word).to_string();
+        quote!(Cow::Borrowed(#word))
+    });
     quote! {
         #krate::graph::NodeSpec {
             name: Cow::Borrowed(#name),
@@ -92,6 +97,7 @@ fn node_spec(krate: &Path, n: &Node, m: usize) -> TokenStream {
                 slots
             }),
             emits: #emits,
+            tags: Cow::Owned(::std::vec![#(#tags),*]),
         }
     }
 }

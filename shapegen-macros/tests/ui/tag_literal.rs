@@ -1,0 +1,9 @@
+shapegen::generator! {
+    struct G;
+    start: S;
+    node S {
+        tags { "trunk" }
+        |s| {}
+    }
+}
+fn main() {}

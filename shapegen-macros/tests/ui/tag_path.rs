@@ -1,0 +1,9 @@
+shapegen::generator! {
+    struct G;
+    start: S;
+    node S {
+        tags { mass::lvl0 }
+        |s| {}
+    }
+}
+fn main() {}
