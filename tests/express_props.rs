@@ -1,6 +1,7 @@
 //! Property test: for every paper generator and random chromosomes (random
 //! individuals changed by random operators), the geometry expressed by the
-//! macro-generated code equals the interpreter's, instance for instance.
+//! macro-generated code equals the interpreter's, instance for instance,
+//! and stepping one gene at a time (`express_gene`) gives the same instances.
 
 use proptest::prelude::*;
 use rand::RngExt;
@@ -44,8 +45,24 @@ fn same<G: Generator>(
     let (mut a, mut b) = (Instances::default(), Instances::default());
     generator.express(&c, &mut a);
     interpreter.express(&c, &mut b);
-    prop_assert_eq!(a, b);
+    prop_assert_eq!(&a, &b);
+    prop_assert_eq!(&stepped(generator, &c), &a);
+    prop_assert_eq!(&stepped(interpreter, &c), &a);
     Ok(())
+}
+
+/// The reference of `express_gene`: one step per gene, depth first, children
+/// in the order their parent schedules them.
+fn stepped<G: Generator>(generator: &G, c: &Chromosome) -> Instances {
+    let mut out = Instances::default();
+    let mut stack = vec![(0, generator.axiom())];
+    let mut children = shapegen::express::Pending::new();
+    while let Some((pos, state)) = stack.pop() {
+        generator.express_gene(c, pos, state, &mut out, &mut children);
+        let scheduled: Vec<_> = children.drain().collect();
+        stack.extend(scheduled.into_iter().rev());
+    }
+    out
 }
 
 proptest! {

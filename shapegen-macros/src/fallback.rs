@@ -138,6 +138,17 @@ fn emit(
             ) {
                 ::core::unreachable!()
             }
+
+            fn express_gene<__SgSink: #krate::express::ModelSink>(
+                &self,
+                chromosome: &#krate::genome::Chromosome,
+                pos: u32,
+                state: #state_ty,
+                sink: &mut __SgSink,
+                children: &mut #krate::express::Pending<#state_ty>,
+            ) {
+                ::core::unreachable!()
+            }
         }
     }
 }

@@ -35,6 +35,27 @@ pub trait Generator: Sync {
         pending: &mut Pending<Self::State>,
     );
 
+    /// One derivation step: expresses the single gene at `pos` of
+    /// `chromosome` from `state`, emitting its instances into `sink` and
+    /// pushing the children it schedules onto `children` (their positions
+    /// and states), in the order the gene schedules them. Children are not
+    /// expressed. Starting from position 0 and [`axiom`](Self::axiom) and
+    /// stepping every scheduled child gives the instances of
+    /// [`express_with`](Self::express_with); a caller may instead change a
+    /// child's state first or stop anywhere (design transformations do both).
+    ///
+    /// # Panics
+    /// If `pos` is not the position of a gene of `chromosome` (positions come
+    /// from 0, the root, and from `children`).
+    fn express_gene<S: ModelSink>(
+        &self,
+        chromosome: &Chromosome,
+        pos: u32,
+        state: Self::State,
+        sink: &mut S,
+        children: &mut Pending<Self::State>,
+    );
+
     /// [`express_with`](Self::express_with) with fresh working memory.
     fn express<S: ModelSink>(&self, chromosome: &Chromosome, sink: &mut S) {
         self.express_with(chromosome, sink, &mut Pending::new());
@@ -71,6 +92,18 @@ macro_rules! delegate_generator {
                 pending: &mut Pending<Self::State>,
             ) {
                 (**self).express_with(chromosome, sink, pending);
+            }
+
+            #[inline]
+            fn express_gene<S: ModelSink>(
+                &self,
+                chromosome: &Chromosome,
+                pos: u32,
+                state: Self::State,
+                sink: &mut S,
+                children: &mut Pending<Self::State>,
+            ) {
+                (**self).express_gene(chromosome, pos, state, sink, children);
             }
         }
     };

@@ -176,25 +176,36 @@ impl<St: Clone + Send + Sync> Generator for Interpreter<St> {
         stack.push(0, self.axiom.clone());
         while let Some(state) = stack.pop_state() {
             let pos = stack.pop_position();
-            let gene = chromosome.gene(&self.graph, pos);
-            let Some(rule) = &self.rules[gene.node() as usize] else {
-                continue;
-            };
             let start = stack.len();
-            let input = RuleInput {
-                graph: &self.graph,
-                gene,
-            };
-            let mut out = RuleOutput {
-                gene,
-                graph: &self.graph,
-                shapes: &self.shapes,
-                sink: &mut *sink,
-                stack: &mut *stack,
-            };
-            rule(&input, state, &mut out);
+            self.express_gene(chromosome, pos, state, sink, stack);
             stack.reverse_from(start);
         }
+    }
+
+    fn express_gene<S: ModelSink>(
+        &self,
+        chromosome: &Chromosome,
+        pos: u32,
+        state: St,
+        sink: &mut S,
+        children: &mut Pending<St>,
+    ) {
+        let gene = chromosome.gene(&self.graph, pos);
+        let Some(rule) = &self.rules[gene.node() as usize] else {
+            return;
+        };
+        let input = RuleInput {
+            graph: &self.graph,
+            gene,
+        };
+        let mut out = RuleOutput {
+            gene,
+            graph: &self.graph,
+            shapes: &self.shapes,
+            sink,
+            stack: children,
+        };
+        rule(&input, state, &mut out);
     }
 }
 

@@ -77,6 +77,16 @@ impl<St> Pending<St> {
         self.positions.is_empty()
     }
 
+    /// The pending genes, in the order they were pushed: positions and states.
+    pub fn iter(&self) -> impl ExactSizeIterator<Item = (u32, &St)> {
+        self.positions.iter().copied().zip(&self.states)
+    }
+
+    /// Removes the pending genes, in the order they were pushed (keeps the allocations).
+    pub fn drain(&mut self) -> impl Iterator<Item = (u32, St)> + '_ {
+        self.positions.drain(..).zip(self.states.drain(..))
+    }
+
     /// Reverses the genes scheduled since the length was `start`, so that
     /// they are expressed in the order they were scheduled.
     #[inline]

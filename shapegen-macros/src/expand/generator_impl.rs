@@ -114,6 +114,23 @@ pub fn expand(g: &Generator, declaration: &Declaration, nodes: &Nodes) -> TokenS
                     #stack.reverse_from(#start_len);
                 }
             }
+
+            fn express_gene<__SgSink: #krate::express::ModelSink>(
+                &self,
+                chromosome: &#krate::genome::Chromosome,
+                #pos: u32,
+                #state: #state_ty,
+                #sink: &mut __SgSink,
+                #stack: &mut #krate::express::Pending<#state_ty>,
+            ) {
+                let #words = chromosome.words();
+                let #pos = #pos as usize;
+                let mut #out = #krate::__private::Direct { words: #words, pos: #pos, sink: &mut *#sink, stack: &mut *#stack };
+                match #krate::__private::node_of(#words[#pos]) {
+                    #(#direct_arms)*
+                    _ => {}
+                }
+            }
         }
     }
 }
