@@ -115,6 +115,7 @@ pub mod gallery;
 pub mod output;
 pub mod registry;
 pub mod scenes;
+pub mod transform;
 
 /// The README's code, compiled and run as a doctest so it cannot rot.
 #[cfg(all(doctest, feature = "cli"))]

@@ -20,9 +20,11 @@ use std::sync::Arc;
 use crate::experiment::ExperimentError;
 use crate::experiment::problem::{ModelProblem, Problem, SceneOutputs, SceneSetup};
 use crate::express::Generator;
+use crate::genome::Chromosome;
 use crate::graph::Graph;
 use crate::score::ModelFitness;
 use crate::score::ShapeMeshes;
+use crate::transform::{Blend, Design, TransformError};
 
 /// Named generators. Names are matched exactly; registering a name again
 /// replaces the earlier generator (so a program may override a built-in).
@@ -54,10 +56,12 @@ impl Registry {
     }
 
     /// Adds `generator` under `name` (replacing a generator of that name).
+    /// Its state must say how a design transformation blends it
+    /// ([`Blend`]); the default [`Scope`](crate::express::Scope) does.
     pub fn register<G>(&mut self, name: &str, generator: G) -> &mut Self
     where
         G: Generator + Send + 'static,
-        G::State: Send,
+        G::State: Blend,
     {
         let entry: Arc<dyn Registered> = Arc::new(Entry(Arc::new(generator)));
         match self.entries.iter_mut().find(|(n, _)| n == name) {
@@ -72,7 +76,7 @@ impl Registry {
     pub fn with<G>(mut self, name: &str, generator: G) -> Self
     where
         G: Generator + Send + 'static,
-        G::State: Send,
+        G::State: Blend,
     {
         self.register(name, generator);
         self
@@ -93,6 +97,18 @@ impl Registry {
     #[must_use]
     pub fn graph(&self, name: &str) -> Option<&Graph> {
         self.get(name).map(|g| g.graph())
+    }
+
+    /// `chromosome` of generator `name`, as one side of a design
+    /// transformation ([`transform`](crate::transform)).
+    pub fn design(&self, name: &str, chromosome: Chromosome) -> Result<Design, TransformError> {
+        match self.get(name) {
+            Some(g) => g.design(chromosome),
+            None => Err(TransformError::UnknownGenerator {
+                name: name.to_string(),
+                known: self.list(),
+            }),
+        }
     }
 
     /// The names as a sentence for error messages (`a, b, c`).
@@ -127,6 +143,8 @@ pub(crate) trait Registered: Send + Sync {
         shapes: ShapeMeshes,
         scene: SceneSetup,
     ) -> Result<Box<dyn Problem>, ExperimentError>;
+    /// `chromosome` of the generator, as one side of a transformation.
+    fn design(&self, chromosome: Chromosome) -> Result<Design, TransformError>;
 }
 
 struct Entry<G>(Arc<G>);
@@ -134,8 +152,12 @@ struct Entry<G>(Arc<G>);
 impl<G> Registered for Entry<G>
 where
     G: Generator + Send + 'static,
-    G::State: Send,
+    G::State: Blend,
 {
+    fn design(&self, chromosome: Chromosome) -> Result<Design, TransformError> {
+        Design::new(Arc::clone(&self.0), chromosome)
+    }
+
     fn graph(&self) -> &Graph {
         self.0.graph()
     }

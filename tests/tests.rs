@@ -26,6 +26,8 @@ mod no_alloc;
 mod robustness;
 /// The paper's generators: structure and placement.
 mod scenes;
+/// Design transformations: endpoints, identity, validity, connected trees.
+mod transform;
 /// Helpers the modules share.
 #[cfg_attr(not(feature = "cli"), allow(dead_code))]
 mod util;

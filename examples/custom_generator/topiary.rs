@@ -24,6 +24,18 @@ impl Twig {
     };
 }
 
+/// How a design transformation (`shapegen transform`) blends two twigs:
+/// through their boxes; the girth stays the design's own.
+impl shapegen::transform::Blend for Twig {
+    fn scope(&self) -> Scope {
+        self.scope
+    }
+
+    fn with_scope(&self, scope: Scope) -> Self {
+        Self { scope, ..*self }
+    }
+}
+
 /// A piece of wood of `length` leaving `from`'s top, turned by `azimuth`
 /// about the vertical and leaning `lean` degrees away from it.
 fn wood(from: &Twig, azimuth: f32, lean: f32, length: f32, girth: f32) -> Scope {

@@ -107,7 +107,7 @@ impl Cli {
     pub fn generator<G>(mut self, name: &str, generator: G) -> Self
     where
         G: Generator + Send + 'static,
-        G::State: Send,
+        G::State: crate::transform::Blend,
     {
         self.registry.register(name, generator);
         self

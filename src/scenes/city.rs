@@ -65,6 +65,7 @@ macro_rules! city {
             $($declaration)*
 
             node Building emits {
+                tags { building }
                 params {
                     footprint: vec2 = uniform([0.2 * 22.0, 0.2 * 22.0], [0.9 * 22.0, 0.9 * 22.0]),
                     height: f32 = uniform(1.2 * 3.0, 100.0),

@@ -12,19 +12,24 @@
 //! | [`TreeV1`] | Fig. 8a, tree avoid | `frustum`, `leaf` |
 //! | [`SpaceFillingCity`] | Fig. 8b, city skylines | `cube` |
 //! | [`GridCity`] | city volume scene | `cube` |
+//! | [`MonopodialTree`] | thesis Fig. 5.1 (Honda) | `frustum` |
+//! | [`SympodialTree`] | thesis Fig. 5.1 (Aono–Kunii) | `frustum` |
 
 mod city;
+mod lsystem;
 mod spaceship;
 mod tree;
 #[cfg(test)]
 mod unrolled;
 
 pub use city::{GRID, GridCity, LOT_STEP, SpaceFillingCity, grid_lot};
+pub use lsystem::{MonopodialTree, SympodialTree};
 pub use spaceship::{ShipState, Spaceship};
 pub use tree::{TreeV1, TreeV2};
 
 /// Registers the paper's generators under the names experiment files use:
-/// `spaceship`, `tree_v1`, `tree_v2`, `space_filling_city`, `grid_city`.
+/// `spaceship`, `tree_v1`, `tree_v2`, `space_filling_city`, `grid_city`,
+/// and the thesis's tree pair `monopodial_tree`, `sympodial_tree`.
 /// [`Registry::builtin`](crate::registry::Registry::builtin) calls it; a
 /// user's generators register the same way.
 pub fn register(registry: &mut crate::registry::Registry) {
@@ -33,5 +38,7 @@ pub fn register(registry: &mut crate::registry::Registry) {
         .register("tree_v1", TreeV1)
         .register("tree_v2", TreeV2)
         .register("space_filling_city", SpaceFillingCity)
-        .register("grid_city", GridCity);
+        .register("grid_city", GridCity)
+        .register("monopodial_tree", MonopodialTree)
+        .register("sympodial_tree", SympodialTree);
 }

@@ -23,6 +23,17 @@ impl ShipState {
 }
 
 /// The rotation by π about the body's local z axis, in world space.
+/// A transformation blends the scope; the mirror stays the design's own.
+impl crate::transform::Blend for ShipState {
+    fn scope(&self) -> Scope {
+        self.scope
+    }
+
+    fn with_scope(&self, scope: Scope) -> Self {
+        Self { scope, ..*self }
+    }
+}
+
 pub(crate) fn mirror_about_z(body: &Scope) -> Affine3A {
     body.frame * Affine3A::from_rotation_z(std::f32::consts::PI) * body.frame.inverse()
 }
@@ -47,6 +58,7 @@ generator! {
 
     /// A body segment: resized from its parent, placed to abut it along +z.
     node B emits {
+        tags { body }
         params { k: vec3 = uniform([0.6, 0.6, 0.6], [1.5, 1.5, 1.5]) }
         slots { next: B = 1.0 / 3.0, wing: W = 1.0 / 3.0, top: T = 1.0 / 3.0 }
         |state| {
@@ -64,6 +76,7 @@ generator! {
 
     /// A tower segment: `T` on a body, `t` on a tower segment; they differ in their scale range.
     node T, t emits {
+        tags { top }
         params { k: vec3 = each[uniform([0.3, 0.1, 0.3], [0.8, 0.2, 0.8]), uniform([0.6, 0.8, 0.6], [1.1, 1.1, 1.1])] }
         slots { up: t = 1.0 }
         |state| {
@@ -78,6 +91,7 @@ generator! {
     /// A wing segment, emitted on both sides of its body: `W` on a body (always
     /// followed by a `w`), `w` further out (continued with p = 0.9).
     node W, w emits {
+        tags { wing }
         params {
             k: vec3 = each[uniform([0.3, 0.2, 0.2], [1.2, 0.5, 1.0]), uniform([0.6, 0.9, 0.7], [1.2, 1.0, 1.2])],
             m: f32 = uniform(-0.5, 0.5),

@@ -58,6 +58,7 @@ generator! {
     }
 
     node T emits {
+        tags { trunk }
         params { h: f32 = uniform(1.4, 1.8) }
         slots { b: b = 1.0 / 3.0, n: n = 1.0 / 3.0, m: m = 1.0 / 3.0 }
         |scope| {
@@ -71,6 +72,7 @@ generator! {
 
     /// The three branch types differ only in their azimuth range.
     node b, n, m emits {
+        tags { branch }
         consts { attach: f32 = 0.38 }
         params {
             azimuth: f32 = each[uniform(0, 120), uniform(120, 240), uniform(240, 360)],
@@ -107,6 +109,7 @@ generator! {
     }
 
     node T emits {
+        tags { trunk }
         params {
             position: vec2 = uniform([-2.5, -2.5], [2.5, 2.5]),
             h: f32 = uniform(1.4, 1.8),
@@ -123,6 +126,7 @@ generator! {
 
     /// `b` and `n` fan out to either side; `m` continues its parent, twisted.
     node b, n, m emits {
+        tags { branch }
         consts { attach: f32 = 0.5 }
         params {
             azimuth: f32 = each[uniform(0, 180), uniform(180, 360), uniform(0, 0)],

@@ -1,0 +1,299 @@
+//! Grammar co-derivation (thesis Alg. 5.1 and 5.2): two designs derived
+//! together from their matched axioms, their outputs paired and blended at
+//! every matched shape.
+
+use std::collections::VecDeque;
+
+use crate::glam::{Affine3A, Vec3};
+
+use crate::express::{Instance, Instances, ShapeId};
+use crate::graph::NodeId;
+
+use super::blend::{Pivot, blend_instances, blend_scopes, scaled_about};
+use super::design::{DynState, StateObj};
+use super::pairing::{corners, distance, pair};
+use super::{Mode, Placed, Source, Transformation};
+
+/// A shape of the co-derivation tree still to derive.
+enum Work {
+    /// A matched shape: derived by both designs from one blended scope.
+    Pair {
+        a: u32,
+        b: u32,
+        sa: DynState,
+        sb: DynState,
+        m: usize,
+    },
+    /// An unpaired shape of one design, derived by that design alone and
+    /// scaled by `fade` about `about`.
+    Single {
+        second: bool,
+        pos: u32,
+        state: DynState,
+        fade: f32,
+        about: Vec3,
+        node: NodeId,
+    },
+}
+
+/// What one design makes of a matched shape (Alg. 5.1): instances, and the
+/// shapes with a match where its derivation stopped.
+#[derive(Default)]
+struct Side {
+    terminals: Instances,
+    leaves: Vec<(u32, DynState, NodeId)>,
+}
+
+impl Transformation {
+    /// The transformed design at time `t ∈ [0, 1]` (clamped): `t = 0` is
+    /// the first design, `t = 1` the second, instance for instance.
+    #[must_use]
+    pub fn at(&self, t: f32) -> Vec<Placed> {
+        let mut out = Vec::new();
+        self.at_into(t, &mut out);
+        out
+    }
+
+    /// [`at`](Self::at) into `out` (cleared first).
+    pub fn at_into(&self, t: f32, out: &mut Vec<Placed>) {
+        out.clear();
+        let t = if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) };
+        let (a, b) = (self.a.stepper(), self.b.stepper());
+        let (ca, cb) = (self.a.chromosome(), self.b.chromosome());
+        let pivot = self.settings.pivot;
+        let (sa, sb) = (a.axiom(), b.axiom());
+        let w0 = self.matches.timelines()[0].weight(t);
+        let root = blend_scopes(&sa.scope(), &sb.scope(), w0, pivot);
+        let mut queue = VecDeque::from([Work::Pair {
+            a: 0,
+            b: 0,
+            sa: sa.with_scope(root),
+            sb: sb.with_scope(root),
+            m: 0,
+        }]);
+        let mut scratch = Instances::default();
+        while let Some(work) = queue.pop_front() {
+            match work {
+                Work::Single {
+                    second,
+                    pos,
+                    state,
+                    fade,
+                    about,
+                    node,
+                } => {
+                    scratch.0.clear();
+                    let (stepper, c) = if second { (b, cb) } else { (a, ca) };
+                    stepper.subtree(c, pos, &*state, &mut scratch);
+                    let source = if second {
+                        Source::B(node)
+                    } else {
+                        Source::A(node)
+                    };
+                    out.extend(scratch.0.iter().map(|i| Placed {
+                        shape: self.shape_of(second, i.shape),
+                        transform: scaled_about(&i.transform, about, fade),
+                        source,
+                    }));
+                }
+                Work::Pair {
+                    a: pa,
+                    b: pb,
+                    sa,
+                    sb,
+                    m,
+                } => {
+                    self.pair_step(t, (pa, pb), (&*sa, &*sb), m, &mut queue, out);
+                }
+            }
+        }
+    }
+
+    fn shape_of(&self, second: bool, shape: ShapeId) -> ShapeId {
+        if second {
+            self.shape_map_b[shape as usize]
+        } else {
+            self.shape_map_a[shape as usize]
+        }
+    }
+
+    /// Derives a matched shape with one design until every leaf is a
+    /// terminal or has a match (Alg. 5.1), breadth first.
+    fn derive(&self, second: bool, pos: u32, state: &dyn StateObj) -> Side {
+        let (stepper, c) = if second {
+            (self.b.stepper(), self.b.chromosome())
+        } else {
+            (self.a.stepper(), self.a.chromosome())
+        };
+        let matched = |n: NodeId| {
+            if second {
+                self.matches.matched_b(n)
+            } else {
+                self.matches.matched_a(n)
+            }
+        };
+        let mut side = Side::default();
+        let mut children = Vec::new();
+        stepper.step(c, pos, state, &mut side.terminals, &mut children);
+        let mut queue: VecDeque<(u32, DynState)> = VecDeque::new();
+        loop {
+            for (p, s) in children.drain(..) {
+                let node = c.gene(stepper.graph(), p).node();
+                if matched(node) {
+                    side.leaves.push((p, s, node));
+                } else {
+                    queue.push_back((p, s));
+                }
+            }
+            let Some((p, s)) = queue.pop_front() else {
+                break;
+            };
+            stepper.step(c, p, &*s, &mut side.terminals, &mut children);
+        }
+        side
+    }
+
+    /// Where a leaf's subtree places its first instance (its own box if it
+    /// places none in its first step): what pairing compares, since
+    /// siblings may receive one and the same state from their parent.
+    fn first_box(&self, second: bool, pos: u32, state: &dyn StateObj) -> Affine3A {
+        let (stepper, c) = if second {
+            (self.b.stepper(), self.b.chromosome())
+        } else {
+            (self.a.stepper(), self.a.chromosome())
+        };
+        let mut out = Instances::default();
+        stepper.step(c, pos, state, &mut out, &mut Vec::new());
+        out.0
+            .first()
+            .map_or_else(|| state.scope().instance(), |i| i.transform)
+    }
+
+    /// One co-derivation step (thesis Fig. 5.4): derive, pair, blend.
+    fn pair_step(
+        &self,
+        t: f32,
+        (pa, pb): (u32, u32),
+        (sa, sb): (&dyn StateObj, &dyn StateObj),
+        m: usize,
+        queue: &mut VecDeque<Work>,
+        out: &mut Vec<Placed>,
+    ) {
+        let timeline = self.matches.timelines()[m];
+        let w = timeline.weight(t);
+        let switched = timeline.switched(t);
+        let pivot = self.settings.pivot;
+        let scale = {
+            let s = sa.scope().size;
+            s.length().max(1e-6)
+        };
+        let side_a = self.derive(false, pa, sa);
+        let side_b = self.derive(true, pb, sb);
+
+        // Terminals: instances of matched emitting nodes pair; the same
+        // shape is preferred (one box-distance unit) over another.
+        let (ta, tb) = (&side_a.terminals.0, &side_b.terminals.0);
+        let corners_a: Vec<_> = ta.iter().map(|i| corners(&i.transform)).collect();
+        let corners_b: Vec<_> = tb.iter().map(|i| corners(&i.transform)).collect();
+        let cost = |i: usize, j: usize| {
+            self.matches.of(ta[i].node, tb[j].node)?;
+            let same = self.shape_of(false, ta[i].shape) == self.shape_of(true, tb[j].shape);
+            let penalty = if same { 0.0 } else { 1.0 };
+            Some(distance(&corners_a[i], &corners_b[j], scale) + penalty)
+        };
+        let pairs = pair(self.settings.pairing, ta.len(), tb.len(), &cost);
+        let (mut used_a, mut used_b) = (vec![false; ta.len()], vec![false; tb.len()]);
+        for &(i, j) in &pairs {
+            used_a[i] = true;
+            used_b[j] = true;
+            let (x, y) = (&ta[i], &tb[j]);
+            let (shape_a, shape_b) = (self.shape_of(false, x.shape), self.shape_of(true, y.shape));
+            out.push(Placed {
+                shape: if switched { shape_b } else { shape_a },
+                transform: blend_instances(&x.transform, &y.transform, w, pivot),
+                source: Source::Both(x.node, y.node),
+            });
+        }
+        for (second, list, used) in [(false, ta, &used_a), (true, tb, &used_b)] {
+            for (x, _) in list.iter().zip(used.iter()).filter(|(_, u)| !**u) {
+                if let Some(fade) = self.fade(second, w, switched) {
+                    out.push(self.single(second, x, pivot, fade));
+                }
+            }
+        }
+
+        // Shapes with a match: pair on where their subtrees start.
+        let (la, lb) = (&side_a.leaves, &side_b.leaves);
+        let first_a: Vec<_> = la
+            .iter()
+            .map(|(p, s, _)| self.first_box(false, *p, &**s))
+            .collect();
+        let first_b: Vec<_> = lb
+            .iter()
+            .map(|(p, s, _)| self.first_box(true, *p, &**s))
+            .collect();
+        let boxes_a: Vec<_> = first_a.iter().map(corners).collect();
+        let boxes_b: Vec<_> = first_b.iter().map(corners).collect();
+        let cost = |i: usize, j: usize| {
+            self.matches.of(la[i].2, lb[j].2)?;
+            Some(distance(&boxes_a[i], &boxes_b[j], scale))
+        };
+        let pairs = pair(self.settings.pairing, la.len(), lb.len(), &cost);
+        let (mut used_a, mut used_b) = (vec![false; la.len()], vec![false; lb.len()]);
+        for &(i, j) in &pairs {
+            used_a[i] = true;
+            used_b[j] = true;
+            let (x, y) = (&la[i], &lb[j]);
+            let scope = blend_scopes(&x.1.scope(), &y.1.scope(), w, pivot);
+            queue.push_back(Work::Pair {
+                a: x.0,
+                b: y.0,
+                sa: x.1.with_scope(scope),
+                sb: y.1.with_scope(scope),
+                m: self.matches.of(x.2, y.2).expect("paired shapes match"),
+            });
+        }
+        for (second, list, first, used) in [
+            (false, la, &first_a, &used_a),
+            (true, lb, &first_b, &used_b),
+        ] {
+            for (k, (pos, state, node)) in list.iter().enumerate().filter(|(k, _)| !used[*k]) {
+                if let Some(fade) = self.fade(second, w, switched) {
+                    // It grows out of (shrinks into) where its subtree starts.
+                    queue.push_back(Work::Single {
+                        second,
+                        pos: *pos,
+                        about: pivot.of_instance(&first[k]),
+                        state: state.with_scope(state.scope()),
+                        fade,
+                        node: *node,
+                    });
+                }
+            }
+        }
+    }
+
+    /// How much of an unpaired shape of the first (`second = false`) or
+    /// second design is shown: `None` when it is absent.
+    fn fade(&self, second: bool, w: f32, switched: bool) -> Option<f32> {
+        match self.settings.mode {
+            Mode::Grow => {
+                let f = if second { w } else { 1.0 - w };
+                (f > 0.0).then_some(f)
+            }
+            Mode::Thesis => (switched == second).then_some(1.0),
+        }
+    }
+
+    fn single(&self, second: bool, x: &Instance, pivot: Pivot, fade: f32) -> Placed {
+        Placed {
+            shape: self.shape_of(second, x.shape),
+            transform: scaled_about(&x.transform, pivot.of_instance(&x.transform), fade),
+            source: if second {
+                Source::B(x.node)
+            } else {
+                Source::A(x.node)
+            },
+        }
+    }
+}

@@ -1,0 +1,199 @@
+//! A design: a generator and one of its derivations, with the generator's
+//! state type erased so that two designs of any generators co-derive.
+
+use std::any::Any;
+use std::borrow::Cow;
+use std::sync::Arc;
+
+use crate::express::{Generator, Instance, Instances, Pending, Scope};
+use crate::genome::Chromosome;
+use crate::graph::Graph;
+
+use super::TransformError;
+use super::blend::Blend;
+
+/// A state of either design, behind its scope.
+pub(crate) trait StateObj: Send + Sync {
+    fn scope(&self) -> Scope;
+    fn with_scope(&self, scope: Scope) -> Box<dyn StateObj>;
+    fn as_any(&self) -> &dyn Any;
+}
+
+impl<T: Blend> StateObj for T {
+    fn scope(&self) -> Scope {
+        Blend::scope(self)
+    }
+
+    fn with_scope(&self, scope: Scope) -> Box<dyn StateObj> {
+        Box::new(Blend::with_scope(self, scope))
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
+pub(crate) type DynState = Box<dyn StateObj>;
+
+/// One derivation step of a generator, on erased states.
+pub(crate) trait Stepper: Send + Sync {
+    fn graph(&self) -> &Graph;
+    fn shapes(&self) -> &[Cow<'static, str>];
+    fn axiom(&self) -> DynState;
+    /// Expresses gene `pos` from `state`: instances into `out`, children
+    /// (position, state) onto `children` in schedule order.
+    fn step(
+        &self,
+        chromosome: &Chromosome,
+        pos: u32,
+        state: &dyn StateObj,
+        out: &mut Instances,
+        children: &mut Vec<(u32, DynState)>,
+    );
+    /// Expresses the whole subtree of gene `pos` from `state` into `out`.
+    fn subtree(&self, chromosome: &Chromosome, pos: u32, state: &dyn StateObj, out: &mut Instances);
+}
+
+struct Erased<G>(G);
+
+impl<G> Erased<G>
+where
+    G: Generator,
+    G::State: Blend,
+{
+    fn state(state: &dyn StateObj) -> G::State {
+        state
+            .as_any()
+            .downcast_ref::<G::State>()
+            .expect("a design's genes receive its own states")
+            .clone()
+    }
+}
+
+impl<G> Stepper for Erased<G>
+where
+    G: Generator + Send,
+    G::State: Blend,
+{
+    fn graph(&self) -> &Graph {
+        self.0.graph()
+    }
+
+    fn shapes(&self) -> &[Cow<'static, str>] {
+        self.0.shapes()
+    }
+
+    fn axiom(&self) -> DynState {
+        Box::new(self.0.axiom())
+    }
+
+    fn step(
+        &self,
+        chromosome: &Chromosome,
+        pos: u32,
+        state: &dyn StateObj,
+        out: &mut Instances,
+        children: &mut Vec<(u32, DynState)>,
+    ) {
+        let mut pending = Pending::new();
+        self.0
+            .express_gene(chromosome, pos, Self::state(state), out, &mut pending);
+        children.extend(pending.drain().map(|(p, s)| (p, Box::new(s) as DynState)));
+    }
+
+    fn subtree(
+        &self,
+        chromosome: &Chromosome,
+        pos: u32,
+        state: &dyn StateObj,
+        out: &mut Instances,
+    ) {
+        let mut stack = Pending::new();
+        let mut children = Pending::new();
+        stack.push(pos, Self::state(state));
+        while let Some((p, s)) = stack.pop() {
+            self.0.express_gene(chromosome, p, s, out, &mut children);
+            let start = stack.len();
+            for (c, cs) in children.drain() {
+                stack.push(c, cs);
+            }
+            stack.reverse_from(start);
+        }
+    }
+}
+
+/// One side of a transformation: a generator and one chromosome of it.
+#[derive(Clone)]
+pub struct Design {
+    generator: Arc<dyn Stepper>,
+    chromosome: Chromosome,
+}
+
+impl std::fmt::Debug for Design {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Design")
+            .field("generator", &self.generator.graph().name())
+            .field("genes", &self.chromosome.len())
+            .finish()
+    }
+}
+
+impl Design {
+    /// `chromosome` of `generator`, checked against its graph.
+    pub fn new<G>(generator: G, chromosome: Chromosome) -> Result<Self, TransformError>
+    where
+        G: Generator + Send + 'static,
+        G::State: Blend,
+    {
+        chromosome
+            .validate(generator.graph())
+            .map_err(|e| TransformError::Chromosome(e.to_string()))?;
+        Ok(Self {
+            generator: Arc::new(Erased(generator)),
+            chromosome,
+        })
+    }
+
+    /// The generator's default model (every slot of probability ≥ ½, central parameters).
+    pub fn default_model<G>(generator: G) -> Result<Self, TransformError>
+    where
+        G: Generator + Send + 'static,
+        G::State: Blend,
+    {
+        let c = crate::ops::default_model(generator.graph())
+            .map_err(|e| TransformError::Chromosome(e.to_string()))?;
+        Self::new(generator, c)
+    }
+
+    pub(crate) fn stepper(&self) -> &dyn Stepper {
+        &*self.generator
+    }
+
+    /// The generator's graph.
+    #[must_use]
+    pub fn graph(&self) -> &Graph {
+        self.generator.graph()
+    }
+
+    /// The generator's shape names.
+    #[must_use]
+    pub fn shapes(&self) -> &[Cow<'static, str>] {
+        self.generator.shapes()
+    }
+
+    /// The derivation.
+    #[must_use]
+    pub fn chromosome(&self) -> &Chromosome {
+        &self.chromosome
+    }
+
+    /// The design as its own generator expresses it.
+    #[must_use]
+    pub fn express(&self) -> Vec<Instance> {
+        let mut out = Instances::default();
+        let axiom = self.generator.axiom();
+        self.generator
+            .subtree(&self.chromosome, 0, &*axiom, &mut out);
+        out.0
+    }
+}

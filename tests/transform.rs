@@ -1,0 +1,198 @@
+//! Design transformations: exact endpoints, a design transformed into
+//! itself, valid shapes at every time, connected trees, determinism.
+
+use proptest::prelude::*;
+use rand::RngExt;
+use shapegen::express::{Generator, Instance};
+use shapegen::glam::{Affine3A, Vec3};
+use shapegen::prelude::*;
+use shapegen::rng::stream;
+use shapegen::scenes::{
+    GridCity, MonopodialTree, SpaceFillingCity, Spaceship, SympodialTree, TreeV1, TreeV2,
+};
+use shapegen::transform::{
+    Blend, Design, Mode, PairingMethod, Pivot, Placed, Settings, Transformation,
+};
+
+/// A random derivation: a random individual changed by random operators.
+fn random_chromosome(graph: &Graph, seed: u64) -> Chromosome {
+    let mut rng = stream(seed, &[]);
+    let init = InitLength::Between { lo: 1, hi: 80 };
+    let mut c = random_individual(graph, &init, &mut rng).unwrap();
+    for _ in 0..rng.random_range(0..20) {
+        match rng.random_range(0..3) {
+            0 => drop(grow(graph, &mut c, &mut rng)),
+            1 => drop(cut(graph, &mut c, &mut rng)),
+            _ => drop(alter(graph, &mut c, &mut rng)),
+        }
+    }
+    c
+}
+
+fn design<G>(g: G, seed: u64) -> Design
+where
+    G: Generator + Send + 'static,
+    G::State: Blend,
+{
+    let c = random_chromosome(g.graph(), seed);
+    Design::new(g, c).unwrap()
+}
+
+/// Instances as sortable rows: shape, then the transform's 12 numbers.
+fn rows(shapes: impl Iterator<Item = (u16, Affine3A)>) -> Vec<(u16, [f32; 12])> {
+    let mut v: Vec<_> = shapes.map(|(s, t)| (s, t.to_cols_array())).collect();
+    v.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    v
+}
+
+fn placed_rows(p: &[Placed]) -> Vec<(u16, [f32; 12])> {
+    rows(p.iter().map(|p| (p.shape, p.transform)))
+}
+
+/// A design's own instances, in the transformation's shape numbering.
+fn own_rows(t: &Transformation, d: &Design) -> Vec<(u16, [f32; 12])> {
+    let names = d.shapes();
+    rows(d.express().iter().map(|i: &Instance| {
+        let name = &names[i.shape as usize];
+        let id = t.shapes().iter().position(|s| s == name).unwrap() as u16;
+        (id, i.transform)
+    }))
+}
+
+fn close(a: &[(u16, [f32; 12])], b: &[(u16, [f32; 12])]) -> Result<(), TestCaseError> {
+    prop_assert_eq!(a.len(), b.len());
+    for (x, y) in a.iter().zip(b) {
+        prop_assert_eq!(x.0, y.0);
+        let scale = x.1.iter().fold(1.0f32, |m, v| m.max(v.abs()));
+        for (p, q) in x.1.iter().zip(&y.1) {
+            prop_assert!((p - q).abs() <= 1e-5 * scale, "{:?} vs {:?}", x, y);
+        }
+    }
+    Ok(())
+}
+
+fn settings(k: u8) -> Settings {
+    Settings {
+        pairing: if k & 1 == 0 {
+            PairingMethod::Munkres
+        } else {
+            PairingMethod::MutualNearest
+        },
+        mode: if k & 2 == 0 { Mode::Grow } else { Mode::Thesis },
+        pivot: if k & 4 == 0 {
+            Pivot::Centre
+        } else {
+            Pivot::Base
+        },
+    }
+}
+
+fn endpoints_and_validity(a: Design, b: Design, k: u8, t: f32) -> Result<(), TestCaseError> {
+    let tr = Transformation::new(a.clone(), b.clone()).with_settings(settings(k));
+    close(&placed_rows(&tr.at(0.0)), &own_rows(&tr, &a))?;
+    close(&placed_rows(&tr.at(1.0)), &own_rows(&tr, &b))?;
+    for p in tr.at(t) {
+        let (s, r, x) = p.transform.to_scale_rotation_translation();
+        prop_assert!(s.is_finite() && r.is_finite() && x.is_finite(), "{:?}", p);
+        prop_assert!(s.min_element() >= 0.0, "negative size {:?}", p);
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    #[test]
+    fn endpoints_are_the_designs_tree_pair(sa: u64, sb: u64, k in 0u8..8, t in 0.0f32..1.0) {
+        endpoints_and_validity(design(MonopodialTree, sa), design(SympodialTree, sb), k, t)?;
+    }
+
+    #[test]
+    fn endpoints_are_the_designs_trees_v1_v2(sa: u64, sb: u64, k in 0u8..8, t in 0.0f32..1.0) {
+        endpoints_and_validity(design(TreeV1, sa), design(TreeV2, sb), k, t)?;
+    }
+
+    #[test]
+    fn endpoints_are_the_designs_spaceships(sa: u64, sb: u64, k in 0u8..8, t in 0.0f32..1.0) {
+        endpoints_and_validity(design(Spaceship, sa), design(Spaceship, sb), k, t)?;
+    }
+
+    #[test]
+    fn endpoints_are_the_designs_cities(sa: u64, sb: u64, k in 0u8..8, t in 0.0f32..1.0) {
+        endpoints_and_validity(design(SpaceFillingCity, sa), design(GridCity, sb), k, t)?;
+    }
+
+    #[test]
+    fn a_design_into_itself_is_itself(s: u64, which in 0u8..4, k in 0u8..8, t in 0.0f32..1.0) {
+        let d = match which {
+            0 => design(MonopodialTree, s),
+            1 => design(TreeV2, s),
+            2 => design(Spaceship, s),
+            _ => design(GridCity, s),
+        };
+        let tr = Transformation::new(d.clone(), d.clone()).with_settings(settings(k));
+        close(&placed_rows(&tr.at(t)), &own_rows(&tr, &d))?;
+    }
+
+    /// Turtle trees blended about their attachment points stay connected:
+    /// every segment starts at the tip of another (or on the ground).
+    #[test]
+    fn tree_pair_stays_connected(sa: u64, sb: u64, pairing in 0u8..2, grow: bool, t in 0.0f32..1.0) {
+        let mut s = settings(pairing);
+        s.pivot = Pivot::Base;
+        s.mode = if grow { Mode::Grow } else { Mode::Thesis };
+        let tr = Transformation::new(design(MonopodialTree, sa), design(SympodialTree, sb))
+            .with_settings(s);
+        let shapes = tr.at(t);
+        let tips: Vec<Vec3> = shapes
+            .iter()
+            .map(|p| p.transform.transform_point3(Vec3::new(0.0, 0.5, 0.0)))
+            .collect();
+        for p in &shapes {
+            let base = p.transform.transform_point3(Vec3::new(0.0, -0.5, 0.0));
+            let length = p.transform.transform_vector3(Vec3::Y).length();
+            // 1e-4 of the length, and f32 round-off for segments faded to
+            // almost nothing (coordinates are about 1, their ulp 1e-7).
+            let tol = 1e-4 * length + 1e-6;
+            let on_ground = base.length() <= tol;
+            let attached = tips.iter().any(|tip| tip.distance(base) <= tol);
+            prop_assert!(on_ground || attached, "segment at {base} of length {length} hangs free");
+        }
+    }
+}
+
+#[test]
+fn the_default_tree_pair_blends_every_segment() {
+    let a = Design::default_model(MonopodialTree).unwrap();
+    let b = Design::default_model(SympodialTree).unwrap();
+    assert_eq!(a.express().len(), 511);
+    assert_eq!(b.express().len(), 511);
+    let tr = Transformation::new(a, b).with_settings(Settings {
+        pivot: Pivot::Base,
+        ..Settings::default()
+    });
+    let half = tr.at(0.5);
+    assert_eq!(half.len(), 511);
+    assert!(
+        half.iter()
+            .all(|p| matches!(p.source, shapegen::transform::Source::Both(..)))
+    );
+    // Same inputs, same sequence.
+    assert_eq!(tr.at(0.37), tr.at(0.37));
+}
+
+#[test]
+fn unknown_names_in_matches_are_errors_that_name_them() {
+    let mut tr = Transformation::new(
+        Design::default_model(TreeV1).unwrap(),
+        Design::default_model(TreeV2).unwrap(),
+    );
+    let e = tr.add_match("b", "Branch").unwrap_err().to_string();
+    assert!(e.contains("`Branch`") && e.contains("b, n, m"), "{e}");
+    let e = tr.remove_match("S", "S").unwrap_err().to_string();
+    assert!(e.contains("start"), "{e}");
+    let e = tr.remove_match("b", "T").unwrap_err().to_string();
+    assert!(e.contains("not a semantic match"), "{e}");
+    tr.remove_match("b", "n").unwrap();
+    assert!(tr.matches().of(2, 3).is_none());
+}
