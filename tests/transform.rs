@@ -196,3 +196,92 @@ fn unknown_names_in_matches_are_errors_that_name_them() {
     tr.remove_match("b", "n").unwrap();
     assert!(tr.matches().of(2, 3).is_none());
 }
+
+#[cfg(feature = "cli")]
+mod command {
+    use crate::util::{TempDir, json};
+    use std::process::Command;
+
+    fn shapegen(args: &[&str]) -> std::process::Output {
+        Command::new(env!("CARGO_BIN_EXE_shapegen"))
+            .args(args)
+            .output()
+            .unwrap()
+    }
+
+    #[test]
+    fn writes_frames_sheet_gif_page_and_facts() {
+        let dir = TempDir::new("transform", "files");
+        let file = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/transformations/tree_lsystems.toml"
+        );
+        let out = dir.join("out");
+        let o = shapegen(&[
+            "transform",
+            file,
+            "--frames",
+            "5",
+            "--obj",
+            "-q",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        for f in [
+            "frames/frame_000.png",
+            "frames/frame_004.obj",
+            "contact.png",
+            "sequence.gif",
+            "index.html",
+        ] {
+            assert!(out.join(f).is_file(), "{f}");
+        }
+        let facts = json(&out.join("sequence.json"));
+        let frames = facts["frames"].as_array().unwrap();
+        assert_eq!(frames.len(), 5);
+        assert!(frames.iter().all(|f| f["instances"] == 511));
+        let picture = image::open(out.join("frames/frame_002.png"))
+            .unwrap()
+            .to_rgba8();
+        let inked = picture
+            .pixels()
+            .filter(|p| p.0[..3] != [255, 255, 255])
+            .count();
+        assert!(
+            inked > 500,
+            "the middle frame is nearly blank ({inked} pixels)"
+        );
+    }
+
+    #[test]
+    fn mistakes_in_the_file_name_their_line() {
+        let dir = TempDir::new("transform", "mistakes");
+        let file = dir.join("t.toml");
+        for (text, expected) in [
+            (
+                "[first]\ngenerator = \"tree_v1\"\n[second]\ngenerator = \"nope\"\n",
+                ":4:13: `second.generator`: no generator `nope`",
+            ),
+            (
+                "[first]\ngenerator = \"tree_v1\"\n[second]\ngenerator = \"tree_v2\"\n[matches]\nadd = [[\"b\", \"Branch\"]]\n",
+                ":6:8: `matches.add`: the second generator has no node `Branch`",
+            ),
+            (
+                "[first]\ngenerator = \"tree_v1\"\ncolour = 1\n[second]\ngenerator = \"tree_v2\"\n",
+                ":3:1: `first.colour`: unknown field",
+            ),
+        ] {
+            std::fs::write(&file, text).unwrap();
+            let o = shapegen(&[
+                "transform",
+                file.to_str().unwrap(),
+                "--out",
+                dir.join("o").to_str().unwrap(),
+            ]);
+            let err = String::from_utf8_lossy(&o.stderr);
+            assert!(!o.status.success());
+            assert!(err.contains(expected), "{err}");
+        }
+    }
+}

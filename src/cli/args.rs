@@ -28,9 +28,33 @@ pub enum Command {
     Render(RenderArgs),
     /// A thumbnail gallery of what the experiment's generator can make: gallery.png, index.html, gallery.json.
     Gallery(GalleryArgs),
+    /// Morphs one design into another (thesis ch. 5): frames/, sequence.gif, contact.png, sequence.json, index.html.
+    Transform(TransformArgs),
     /// Design the generator's pdf from preference scores (Dang et al. 2015): sample, score, learn, export.
     #[command(subcommand)]
     Design(DesignCommand),
+}
+
+/// `shapegen transform`.
+#[derive(Debug, clap::Args)]
+pub struct TransformArgs {
+    /// The transformation file (TOML: `[first]`, `[second]`, `[blend]`, `[matches]`, `[[timeline]]`, `[frames]`).
+    pub file: PathBuf,
+    /// Frames in the sequence, both ends included (default: the file's `frames.count`).
+    #[arg(long)]
+    pub frames: Option<usize>,
+    /// One frame only, at this time in [0, 1].
+    #[arg(long)]
+    pub at: Option<f32>,
+    /// Also write each frame's model as OBJ (frames/frame_NNN.obj).
+    #[arg(long)]
+    pub obj: bool,
+    /// Output directory.
+    #[arg(long, default_value = "transform")]
+    pub out: PathBuf,
+    /// No progress bar.
+    #[arg(long, short)]
+    pub quiet: bool,
 }
 
 /// `shapegen design …`: the steps of a design session.

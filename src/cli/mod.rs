@@ -29,6 +29,7 @@ mod progress;
 mod render;
 mod run;
 mod saved;
+mod transform;
 
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
@@ -176,6 +177,7 @@ impl Cli {
             Command::Render(a) => render::render(self, &a),
             Command::Gallery(a) => gallery::gallery(self, &a),
             Command::Design(c) => design::design(self, c),
+            Command::Transform(a) => transform::transform(self, &a),
         }
     }
 

@@ -44,8 +44,10 @@
 mod blend;
 mod coderive;
 mod design;
+mod file;
 mod matches;
 mod pairing;
+pub mod sequence;
 
 use std::borrow::Cow;
 
@@ -56,6 +58,7 @@ use crate::graph::NodeId;
 
 pub use blend::{Blend, Pivot, blend_instances, blend_scopes, scaled_about};
 pub use design::Design;
+pub use file::{Frames, TransformFile, TransformFileError};
 pub use matches::{Matches, Timeline};
 pub use pairing::PairingMethod;
 

@@ -1,0 +1,208 @@
+//! `shapegen transform`: a transformation file to a sequence of pictures.
+
+use std::time::Instant;
+
+use base64::Engine;
+use image::codecs::gif::{GifEncoder, Repeat};
+
+use super::args::TransformArgs;
+use super::{Cli, CliError, guard};
+use crate::experiment::ExperimentError;
+use crate::output::{Stage, write_json};
+use crate::score::{Viewpoint, write_png_rgba};
+use crate::transform::sequence::{
+    FrameFacts, Painter, contact_sheet, frame_times, instances, visible,
+};
+use crate::transform::{Placed, TransformFile};
+
+/// Frames shown on the contact sheet at most.
+const SHEET_FRAMES: usize = 12;
+
+/// Runs `shapegen transform`.
+pub(super) fn transform(cli: &Cli, args: &TransformArgs) -> Result<(), CliError> {
+    crate::experiment::check_regular_file(&args.file).map_err(CliError::msg)?;
+    let file =
+        TransformFile::load(&args.file, &cli.registry).map_err(|e| CliError::msg(e.to_string()))?;
+    let count = args.frames.unwrap_or(file.frames.count);
+    if !(2..=10_000).contains(&count) {
+        return Err(CliError::msg("--frames: between 2 and 10000 frames"));
+    }
+    let times = match args.at {
+        Some(t) if (0.0..=1.0).contains(&t) => vec![t],
+        Some(t) => return Err(CliError::msg(format!("--at {t}: a time in [0, 1]"))),
+        None => frame_times(count),
+    };
+    let _taken = guard::take_output_dir(&args.out)?;
+    let mut inputs = file.inputs.clone();
+    inputs.push(args.file.clone());
+    guard::refuse_overwriting_inputs(
+        &[args.out.join("frames"), args.out.join("index.html")],
+        &inputs,
+    )?;
+    let t = &file.transformation;
+    let viewpoint = Viewpoint {
+        azimuth: file.frames.azimuth.to_radians(),
+        elevation: file.frames.elevation.to_radians(),
+    };
+    let mut painter = Painter::new(t, viewpoint, file.frames.size)?;
+    let stage = Stage::new(&args.out)?;
+    let out = stage.path();
+    std::fs::create_dir_all(out.join("frames")).map_err(|e| ExperimentError::write(out, e))?;
+    let bar = (!args.quiet && times.len() > 1).then(|| {
+        let bar = indicatif::ProgressBar::new(times.len() as u64);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{msg} [{bar:30}] {pos}/{len} frames, {elapsed} (eta {eta})",
+            )
+            .expect("valid template")
+            .progress_chars("=> "),
+        );
+        bar.set_message("transforming");
+        bar
+    });
+    let mut facts = Vec::with_capacity(times.len());
+    let mut pictures = Vec::with_capacity(times.len());
+    let mut shapes: Vec<Placed> = Vec::new();
+    let started = Instant::now();
+    for (k, &time) in times.iter().enumerate() {
+        if guard::interrupted() {
+            return Err(CliError::msg("interrupted; nothing was written"));
+        }
+        let clock = Instant::now();
+        t.at_into(time, &mut shapes);
+        let derive_ms = clock.elapsed().as_secs_f64() * 1e3;
+        let picture = painter.paint(&shapes);
+        write_png_rgba(&out.join(format!("frames/frame_{k:03}.png")), &picture)?;
+        if args.obj {
+            let meshes = crate::score::ShapeMeshes::new(
+                t.shapes().to_vec(),
+                t.shapes()
+                    .iter()
+                    .map(|n| {
+                        crate::score::Mesh::builtin(n).unwrap_or_else(crate::score::Mesh::unit_cube)
+                    })
+                    .collect(),
+            )?;
+            let path = out.join(format!("frames/frame_{k:03}.obj"));
+            let mut bytes = Vec::new();
+            crate::score::write_obj(&mut bytes, &instances(&shapes), &meshes)
+                .map_err(|e| ExperimentError::write(&path, e))?;
+            crate::score::write_atomically(&path, &bytes)?;
+        }
+        facts.push(FrameFacts {
+            t: time,
+            instances: shapes.len(),
+            visible: visible(&shapes, painter.scale()),
+            derive_ms,
+        });
+        pictures.push(picture);
+        if let Some(bar) = &bar {
+            bar.set_position(k as u64 + 1);
+        }
+    }
+    if let Some(bar) = &bar {
+        bar.finish_and_clear();
+    }
+    let step = pictures.len().div_ceil(SHEET_FRAMES).max(1);
+    let mut sheet: Vec<_> = pictures.iter().step_by(step).cloned().collect();
+    if pictures.len() > 1 && (pictures.len() - 1) % step != 0 {
+        sheet.push(pictures[pictures.len() - 1].clone());
+    }
+    write_png_rgba(&out.join("contact.png"), &contact_sheet(&sheet, 4, 240))?;
+    if pictures.len() > 1 {
+        write_gif(&out.join("sequence.gif"), &pictures)?;
+    }
+    write_page(&out.join("index.html"), &pictures, &facts)?;
+    let events = facts
+        .windows(2)
+        .filter(|w| w[0].visible != w[1].visible)
+        .count();
+    let summary = serde_json::json!({
+        "file": args.file.display().to_string(),
+        "first": t.first().graph().name(),
+        "second": t.second().graph().name(),
+        "matches": t.matches().pairs().len(),
+        "settings": {
+            "pairing": t.settings().pairing,
+            "mode": t.settings().mode,
+            "pivot": t.settings().pivot,
+        },
+        "visible_count_changes": events,
+        "frames": facts,
+    });
+    write_json(&out.join("sequence.json"), &summary)?;
+    write_json(
+        &out.join("summary.json"),
+        &serde_json::json!({ "frames": times.len(), "seconds": started.elapsed().as_secs_f64() }),
+    )?;
+    stage.publish()?;
+    outln!(
+        "{} frames of `{}` into `{}` ({} matches, {:.2} ms per model, {} changes of the visible count) in {}",
+        times.len(),
+        t.first().graph().name(),
+        t.second().graph().name(),
+        t.matches().pairs().len(),
+        facts.iter().map(|f| f.derive_ms).sum::<f64>() / facts.len() as f64,
+        events,
+        args.out.display()
+    );
+    Ok(())
+}
+
+fn write_gif(path: &std::path::Path, frames: &[image::RgbaImage]) -> Result<(), CliError> {
+    let mut bytes = Vec::new();
+    {
+        let mut encoder = GifEncoder::new_with_speed(&mut bytes, 10);
+        encoder
+            .set_repeat(Repeat::Infinite)
+            .map_err(|e| ExperimentError::write(path, e))?;
+        let delay = image::Delay::from_numer_denom_ms(40, 1);
+        for f in frames {
+            encoder
+                .encode_frame(image::Frame::from_parts(f.clone(), 0, 0, delay))
+                .map_err(|e| ExperimentError::write(path, e))?;
+        }
+    }
+    crate::score::write_atomically(path, &bytes)?;
+    Ok(())
+}
+
+/// A page with every frame embedded and a slider over the timeline.
+fn write_page(
+    path: &std::path::Path,
+    frames: &[image::RgbaImage],
+    facts: &[FrameFacts],
+) -> Result<(), CliError> {
+    let mut uris = Vec::with_capacity(frames.len());
+    for f in frames {
+        let png = crate::score::png_bytes(path, f)?;
+        uris.push(format!(
+            "data:image/png;base64,{}",
+            base64::engine::general_purpose::STANDARD.encode(png)
+        ));
+    }
+    let times: Vec<f32> = facts.iter().map(|f| f.t).collect();
+    let data = serde_json::json!({ "frames": uris, "times": times }).to_string();
+    let html = PAGE
+        .replace("{{LAST}}", &(frames.len().saturating_sub(1)).to_string())
+        .replace("{{DATA}}", &data.replace("</", "<\\/"));
+    crate::score::write_atomically(path, html.as_bytes())?;
+    Ok(())
+}
+
+const PAGE: &str = r#"<!doctype html>
+<html lang="en"><head><meta charset="utf-8"><title>shapegen transformation</title>
+<style>body{font-family:sans-serif;margin:2em;background:#fafafa}img{display:block;border:1px solid #ccc;background:#fff;max-width:100%}
+input{width:min(100%,640px)}</style></head>
+<body><h1>Design transformation</h1>
+<img id="frame" alt="the design at the chosen time">
+<p><label>t = <output id="t">0</output><br><input id="slider" type="range" min="0" max="{{LAST}}" value="0"></label></p>
+<script id="data" type="application/json">{{DATA}}</script>
+<script>
+const data = JSON.parse(document.getElementById('data').textContent);
+const img = document.getElementById('frame'), slider = document.getElementById('slider'), out = document.getElementById('t');
+function show(k) { img.src = data.frames[k]; out.textContent = data.times[k].toFixed(3); }
+slider.addEventListener('input', () => show(+slider.value));
+show(0);
+</script></body></html>
+"#;
