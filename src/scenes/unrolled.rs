@@ -30,6 +30,7 @@ generator! {
 
     /// A body segment: resized from its parent, placed to abut it along +z.
     node B emits {
+        tags { body }
         params { k: vec3 = uniform([0.6, 0.6, 0.6], [1.5, 1.5, 1.5]) }
         slots { next: B = 1.0 / 3.0, wing: W = 1.0 / 3.0, top: T = 1.0 / 3.0 }
         |state| {
@@ -47,6 +48,7 @@ generator! {
 
     /// The first tower segment on a body.
     node T emits {
+        tags { top }
         params { k: vec3 = uniform([0.3, 0.1, 0.3], [0.8, 0.2, 0.8]) }
         slots { up: t = 1.0 }
         |state| {
@@ -60,6 +62,7 @@ generator! {
 
     /// A further tower segment.
     node t emits {
+        tags { top }
         params { k: vec3 = uniform([0.6, 0.8, 0.6], [1.1, 1.1, 1.1]) }
         slots { up: t = 1.0 }
         |state| {
@@ -73,6 +76,7 @@ generator! {
 
     /// The first wing segment, emitted on both sides of its body.
     node W emits {
+        tags { wing }
         params {
             k: vec3 = uniform([0.3, 0.2, 0.2], [1.2, 0.5, 1.0]),
             m: f32 = uniform(-0.5, 0.5),
@@ -88,6 +92,7 @@ generator! {
 
     /// A further wing segment, emitted on both sides.
     node w emits {
+        tags { wing }
         params {
             k: vec3 = uniform([0.6, 0.9, 0.7], [1.2, 1.0, 1.2]),
             m: f32 = uniform(-0.5, 0.5),
@@ -117,6 +122,7 @@ generator! {
     }
 
     node T emits {
+        tags { trunk }
         params { h: f32 = uniform(1.4, 1.8) }
         slots { b: b = 1.0 / 3.0, n: n = 1.0 / 3.0, m: m = 1.0 / 3.0 }
         |scope| {
@@ -129,6 +135,7 @@ generator! {
     }
 
     node b emits {
+        tags { branch }
         params {
             azimuth: f32 = uniform(0, 120),
             inclination: f32 = uniform(35, 85),
@@ -149,6 +156,7 @@ generator! {
     }
 
     node n emits {
+        tags { branch }
         params {
             azimuth: f32 = uniform(120, 240),
             inclination: f32 = uniform(35, 85),
@@ -169,6 +177,7 @@ generator! {
     }
 
     node m emits {
+        tags { branch }
         params {
             azimuth: f32 = uniform(240, 360),
             inclination: f32 = uniform(35, 85),
@@ -204,6 +213,7 @@ generator! {
     }
 
     node T emits {
+        tags { trunk }
         params {
             position: vec2 = uniform([-2.5, -2.5], [2.5, 2.5]),
             h: f32 = uniform(1.4, 1.8),
@@ -219,6 +229,7 @@ generator! {
     }
 
     node b emits {
+        tags { branch }
         params {
             azimuth: f32 = uniform(0, 180),
             inclination: f32 = uniform(35, 55),
@@ -239,6 +250,7 @@ generator! {
     }
 
     node n emits {
+        tags { branch }
         params {
             azimuth: f32 = uniform(180, 360),
             inclination: f32 = uniform(35, 55),
@@ -259,6 +271,7 @@ generator! {
     }
 
     node m emits {
+        tags { branch }
         params {
             azimuth: f32 = uniform(0, 0),
             inclination: f32 = uniform(0, 2),
@@ -337,6 +350,7 @@ generator! {
     }
 
     node Building emits {
+        tags { building }
         params {
             footprint: vec2 = uniform([0.2 * 22.0, 0.2 * 22.0], [0.9 * 22.0, 0.9 * 22.0]),
             height: f32 = uniform(1.2 * 3.0, 100.0),
@@ -368,6 +382,7 @@ generator! {
     }
 
     node Building emits {
+        tags { building }
         params {
             footprint: vec2 = uniform([0.2 * 22.0, 0.2 * 22.0], [0.9 * 22.0, 0.9 * 22.0]),
             height: f32 = uniform(1.2 * 3.0, 100.0),
