@@ -540,8 +540,11 @@ fn target_meshes_that_cover_nothing_or_lose_faces() {
             "{method}: {evaluations} evaluations: {}",
             out.stderr
         );
+        // A 1-s budget that must not run away; the bound is loose because
+        // a busy two-core machine (a build beside the tests) stretched it
+        // past 5 s twice while the run itself was fine.
         assert!(
-            summary["seconds"].as_f64().unwrap() < 5.0,
+            summary["seconds"].as_f64().unwrap() < 15.0,
             "{method}: {summary}"
         );
     }

@@ -11,7 +11,8 @@ use crate::experiment::ExperimentError;
 use crate::output::{Stage, write_json};
 use crate::score::{Viewpoint, write_png_rgba};
 use crate::transform::sequence::{
-    FrameFacts, Painter, contact_sheet, frame_times, instances, visible,
+    FrameFacts, Occupancy, Painter, Smoothness, change, contact_sheet, frame_times, instances,
+    meshes, visible,
 };
 use crate::transform::{Placed, TransformFile};
 
@@ -45,6 +46,8 @@ pub(super) fn transform(cli: &Cli, args: &TransformArgs) -> Result<(), CliError>
         elevation: file.frames.elevation.to_radians(),
     };
     let mut painter = Painter::new(t, viewpoint, file.frames.size)?;
+    let mut occupancy = Occupancy::new(t, 96)?;
+    let mut previous: Option<Vec<u64>> = None;
     let stage = Stage::new(&args.out)?;
     let out = stage.path();
     std::fs::create_dir_all(out.join("frames")).map_err(|e| ExperimentError::write(out, e))?;
@@ -72,17 +75,12 @@ pub(super) fn transform(cli: &Cli, args: &TransformArgs) -> Result<(), CliError>
         t.at_into(time, &mut shapes);
         let derive_ms = clock.elapsed().as_secs_f64() * 1e3;
         let picture = painter.paint(&shapes);
+        let cells = occupancy.cells(&shapes);
+        let change = previous.as_ref().map_or(0.0, |p| change(p, &cells));
+        previous = Some(cells);
         write_png_rgba(&out.join(format!("frames/frame_{k:03}.png")), &picture)?;
         if args.obj {
-            let meshes = crate::score::ShapeMeshes::new(
-                t.shapes().to_vec(),
-                t.shapes()
-                    .iter()
-                    .map(|n| {
-                        crate::score::Mesh::builtin(n).unwrap_or_else(crate::score::Mesh::unit_cube)
-                    })
-                    .collect(),
-            )?;
+            let meshes = meshes(t)?;
             let path = out.join(format!("frames/frame_{k:03}.obj"));
             let mut bytes = Vec::new();
             crate::score::write_obj(&mut bytes, &instances(&shapes), &meshes)
@@ -94,6 +92,7 @@ pub(super) fn transform(cli: &Cli, args: &TransformArgs) -> Result<(), CliError>
             instances: shapes.len(),
             visible: visible(&shapes, painter.scale()),
             derive_ms,
+            change,
         });
         pictures.push(picture);
         if let Some(bar) = &bar {
@@ -113,10 +112,7 @@ pub(super) fn transform(cli: &Cli, args: &TransformArgs) -> Result<(), CliError>
         write_gif(&out.join("sequence.gif"), &pictures)?;
     }
     write_page(&out.join("index.html"), &pictures, &facts)?;
-    let events = facts
-        .windows(2)
-        .filter(|w| w[0].visible != w[1].visible)
-        .count();
+    let smoothness = Smoothness::of(&facts);
     let summary = serde_json::json!({
         "file": args.file.display().to_string(),
         "first": t.first().graph().name(),
@@ -127,7 +123,7 @@ pub(super) fn transform(cli: &Cli, args: &TransformArgs) -> Result<(), CliError>
             "mode": t.settings().mode,
             "pivot": t.settings().pivot,
         },
-        "visible_count_changes": events,
+        "smoothness": smoothness,
         "frames": facts,
     });
     write_json(&out.join("sequence.json"), &summary)?;
@@ -137,13 +133,15 @@ pub(super) fn transform(cli: &Cli, args: &TransformArgs) -> Result<(), CliError>
     )?;
     stage.publish()?;
     outln!(
-        "{} frames of `{}` into `{}` ({} matches, {:.2} ms per model, {} changes of the visible count) in {}",
+        "{} frames of `{}` into `{}` ({} matches, {:.2} ms per model; largest change between frames {:.4} (1 - IoU), 95th percentile {:.4}, instance count changes {}) in {}",
         times.len(),
         t.first().graph().name(),
         t.second().graph().name(),
         t.matches().pairs().len(),
         facts.iter().map(|f| f.derive_ms).sum::<f64>() / facts.len() as f64,
-        events,
+        smoothness.largest_change,
+        smoothness.p95_change,
+        smoothness.count_changes,
         args.out.display()
     );
     Ok(())

@@ -7,7 +7,11 @@ use serde::Serialize;
 
 use super::{Placed, Transformation};
 use crate::express::Instance;
-use crate::score::{BoundingSphere, Mesh, RenderMeshes, Renderer, ShapeMeshes, Style, Viewpoint};
+use crate::glam::{UVec3, Vec3};
+use crate::score::{
+    BoundingSphere, Grid, Mesh, RenderMeshes, Renderer, ShapeMeshes, Solid, Style, Viewpoint,
+    Voxelizer,
+};
 
 /// The times of `count` frames from 0 to 1, both included.
 #[must_use]
@@ -42,6 +46,142 @@ pub fn visible(shapes: &[Placed], scale: f32) -> usize {
         .count()
 }
 
+/// The built-in mesh of each of `t`'s shapes (a unit cube for a name without one).
+pub fn meshes(t: &Transformation) -> Result<ShapeMeshes, crate::score::ScoreError> {
+    let names: Vec<Cow<'static, str>> = t.shapes().to_vec();
+    let meshes: Vec<Mesh> = names
+        .iter()
+        .map(|n| Mesh::builtin(n).unwrap_or_else(Mesh::unit_cube))
+        .collect();
+    ShapeMeshes::new(names, meshes)
+}
+
+/// Frames as sets of voxels of one grid fitted to both designs, to measure
+/// how much a sequence changes from one frame to the next.
+pub struct Occupancy {
+    grid: Grid,
+    solids: Vec<Solid>,
+    voxelizer: Voxelizer,
+    dims: UVec3,
+}
+
+impl Occupancy {
+    /// A grid of `side`³ cells around both designs of `t` (their bounding
+    /// box, with a margin of 2 %).
+    pub fn new(t: &Transformation, side: u32) -> Result<Self, crate::score::ScoreError> {
+        let meshes = meshes(t)?;
+        let solids = (0..meshes.len() as u16)
+            .map(|i| Solid::new(meshes.name(i), meshes.mesh(i)))
+            .collect::<Result<Vec<_>, _>>()?;
+        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for p in t.at(0.0).iter().chain(t.at(1.0).iter()) {
+            for c in super::pairing::corners(&p.transform) {
+                lo = lo.min(c);
+                hi = hi.max(c);
+            }
+        }
+        if !lo.is_finite() || !hi.is_finite() {
+            (lo, hi) = (Vec3::splat(-1.0), Vec3::splat(1.0));
+        }
+        let margin = 0.02 * (hi - lo).max_element().max(1e-3);
+        let dims = UVec3::splat(side.max(2));
+        let grid = Grid::new(lo - margin, hi + margin, dims)?;
+        Ok(Self {
+            grid,
+            solids,
+            voxelizer: Voxelizer::new(),
+            dims,
+        })
+    }
+
+    /// The cells `shapes` fill, as a bit set. A shape thinner than a cell
+    /// and a half along one of its axes is thickened to that along it, so
+    /// that thin branches are measured as they move instead of flickering
+    /// in and out of cell centres; shapes of size zero fill nothing.
+    pub fn cells(&mut self, shapes: &[Placed]) -> Vec<u64> {
+        let d = self.dims;
+        let n = (d.x * d.y * d.z) as usize;
+        let mut bits = vec![0u64; n.div_ceil(64)];
+        let thinnest = 1.5 * self.grid.cell_size().min_element() as f32;
+        for p in shapes {
+            let solid = &self.solids[p.shape as usize];
+            let mut t = p.transform;
+            let m = &mut t.matrix3;
+            let axes = [&mut m.x_axis, &mut m.y_axis, &mut m.z_axis];
+            if axes.iter().any(|a| a.length() == 0.0) {
+                continue;
+            }
+            for a in axes {
+                let l = a.length();
+                if l < thinnest {
+                    *a *= thinnest / l;
+                }
+            }
+            self.voxelizer.spans(&self.grid, solid, &t, |s| {
+                if s.y < 0 || s.z < 0 || s.y >= i64::from(d.y) || s.z >= i64::from(d.z) {
+                    return;
+                }
+                let row = (s.z as usize * d.y as usize + s.y as usize) * d.x as usize;
+                for x in s.x0.max(0)..s.x1.min(i64::from(d.x)) {
+                    let i = row + x as usize;
+                    bits[i / 64] |= 1 << (i % 64);
+                }
+            });
+        }
+        bits
+    }
+}
+
+/// `1 − IoU` of two cell sets (0 for two empty sets).
+#[must_use]
+pub fn change(a: &[u64], b: &[u64]) -> f64 {
+    let (mut both, mut either) = (0u64, 0u64);
+    for (x, y) in a.iter().zip(b) {
+        both += u64::from((x & y).count_ones());
+        either += u64::from((x | y).count_ones());
+    }
+    if either == 0 {
+        0.0
+    } else {
+        1.0 - both as f64 / either as f64
+    }
+}
+
+/// How smooth a sequence is: the largest and the 95th percentile of the
+/// change between consecutive frames, and the number of times the count of
+/// instances changes (discrete events).
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Smoothness {
+    /// Largest `1 − IoU` between consecutive frames.
+    pub largest_change: f64,
+    /// Its 95th percentile.
+    pub p95_change: f64,
+    /// Consecutive frames whose instance counts differ.
+    pub count_changes: usize,
+}
+
+impl Smoothness {
+    /// From each frame's facts (the first frame's change is not counted).
+    #[must_use]
+    pub fn of(frames: &[FrameFacts]) -> Self {
+        let mut changes: Vec<f64> = frames.iter().skip(1).map(|f| f.change).collect();
+        changes.sort_by(f64::total_cmp);
+        let p95 = if changes.is_empty() {
+            0.0
+        } else {
+            changes[((changes.len() - 1) as f64 * 0.95).round() as usize]
+        };
+        Self {
+            largest_change: changes.last().copied().unwrap_or(0.0),
+            p95_change: p95,
+            count_changes: frames
+                .windows(2)
+                .filter(|w| w[0].instances != w[1].instances)
+                .count(),
+        }
+    }
+}
+
 /// One frame's facts, for `sequence.json`.
 #[derive(Clone, Debug, Serialize)]
 pub struct FrameFacts {
@@ -53,6 +193,8 @@ pub struct FrameFacts {
     pub visible: usize,
     /// Milliseconds to co-derive the frame.
     pub derive_ms: f64,
+    /// `1 − IoU` of this frame's cells and the previous frame's (0 for the first).
+    pub change: f64,
 }
 
 /// Renders transformation frames from one camera fitted to both designs.
@@ -71,12 +213,7 @@ impl Painter {
         viewpoint: Viewpoint,
         size: u32,
     ) -> Result<Self, crate::score::ScoreError> {
-        let names: Vec<Cow<'static, str>> = t.shapes().to_vec();
-        let meshes: Vec<Mesh> = names
-            .iter()
-            .map(|n| Mesh::builtin(n).unwrap_or_else(Mesh::unit_cube))
-            .collect();
-        let meshes = RenderMeshes::new(&ShapeMeshes::new(names, meshes)?)?;
+        let meshes = RenderMeshes::new(&meshes(t)?)?;
         let mut both = instances(&t.at(0.0));
         both.extend(instances(&t.at(1.0)));
         let sphere = meshes.bounding_sphere(&both).unwrap_or(BoundingSphere {
@@ -122,4 +259,72 @@ pub fn contact_sheet(frames: &[image::RgbaImage], columns: u32, side: u32) -> im
         image::imageops::overlay(&mut sheet, &small, i64::from(x * side), i64::from(y * side));
     }
     sheet
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::express::Generator;
+    use crate::scenes::{TreeV1, TreeV2};
+    use crate::transform::{Design, Mode, Settings};
+
+    #[test]
+    fn change_is_one_minus_iou() {
+        assert_eq!(change(&[0b1111], &[0b1111]), 0.0);
+        assert_eq!(change(&[0b0011], &[0b1100]), 1.0);
+        assert!((change(&[0b0111], &[0b1110]) - 0.5).abs() < 1e-12);
+        assert_eq!(change(&[0], &[0]), 0.0);
+    }
+
+    fn facts(changes: &[f64], counts: &[usize]) -> Vec<FrameFacts> {
+        changes
+            .iter()
+            .zip(counts)
+            .enumerate()
+            .map(|(k, (&change, &instances))| FrameFacts {
+                t: k as f32,
+                instances,
+                visible: instances,
+                derive_ms: 0.0,
+                change,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn smoothness_skips_the_first_frame() {
+        let s = Smoothness::of(&facts(&[0.9, 0.1, 0.3, 0.2], &[1, 1, 2, 2]));
+        assert_eq!(s.largest_change, 0.3);
+        assert_eq!(s.count_changes, 1);
+    }
+
+    /// The measure sees the thesis's pops: unpaired branches of trees v1
+    /// and v2 appear at the threshold in one frame; grown, they do not.
+    #[test]
+    fn grown_shapes_change_less_per_frame_than_popped_ones() {
+        let largest = |mode| {
+            let mut rng = crate::rng::stream(11, &[]);
+            let a = crate::ops::uncontrolled(TreeV1.graph(), &mut rng).unwrap();
+            let b = crate::ops::uncontrolled(TreeV2.graph(), &mut rng).unwrap();
+            let (a, b) = (
+                Design::new(TreeV1, a).unwrap(),
+                Design::new(TreeV2, b).unwrap(),
+            );
+            let t = crate::transform::Transformation::new(a, b).with_settings(Settings {
+                mode,
+                ..Settings::default()
+            });
+            let mut occupancy = Occupancy::new(&t, 48).unwrap();
+            let cells: Vec<_> = frame_times(41)
+                .iter()
+                .map(|&x| occupancy.cells(&t.at(x)))
+                .collect();
+            cells
+                .windows(2)
+                .map(|w| change(&w[0], &w[1]))
+                .fold(0.0, f64::max)
+        };
+        let (grow, thesis) = (largest(Mode::Grow), largest(Mode::Thesis));
+        assert!(grow < 0.5 * thesis, "grow {grow}, thesis {thesis}");
+    }
 }
