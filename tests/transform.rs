@@ -285,3 +285,21 @@ mod command {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 32, ..ProptestConfig::default() })]
+
+    /// Partners are chosen once: between the endpoints, every t has the
+    /// same shapes from the same sources (in grow mode, where nothing is
+    /// dropped before the ends), only placed differently.
+    #[test]
+    fn no_shape_changes_partner_mid_sequence(sa: u64, sb: u64, t in 0.01f32..0.99, u in 0.01f32..0.99) {
+        let tr = Transformation::new(design(TreeV1, sa), design(TreeV2, sb));
+        let sources = |x: f32| {
+            let mut v: Vec<String> = tr.at(x).iter().map(|p| format!("{:?}", p.source)).collect();
+            v.sort();
+            v
+        };
+        prop_assert_eq!(sources(t), sources(u));
+    }
+}

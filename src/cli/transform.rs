@@ -124,6 +124,11 @@ pub(super) fn transform(cli: &Cli, args: &TransformArgs) -> Result<(), CliError>
             "pivot": t.settings().pivot,
         },
         "smoothness": smoothness,
+        "rules": t.matched_rules().0,
+        "matched_rules_percent": t.matched_rules().1,
+        "parameters": 3 * t.matches().pairs().len(),
+        "edits": file.edits,
+        "terminals_mean": facts.iter().map(|f| f.instances as f64).sum::<f64>() / facts.len() as f64,
         "frames": facts,
     });
     write_json(&out.join("sequence.json"), &summary)?;

@@ -2,7 +2,7 @@
 //! together from their matched axioms, their outputs paired and blended at
 //! every matched shape.
 
-use std::collections::VecDeque;
+use std::collections::{HashMap, VecDeque};
 
 use crate::glam::{Affine3A, Vec3};
 
@@ -13,6 +13,51 @@ use super::blend::{Pivot, blend_instances, blend_scopes, scaled_about};
 use super::design::{DynState, StateObj};
 use super::pairing::{corners, distance, pair};
 use super::{Mode, Placed, Source, Transformation};
+
+/// When partners are chosen: halfway.
+const REFERENCE_TIME: f32 = 0.5;
+
+/// The partners of every co-derivation step, by the genes it co-derives:
+/// `[instances, shapes with a match]`, each as pairs of indices in the
+/// order the two designs derive them.
+pub(crate) type Pairings = HashMap<(u32, u32), [Vec<(usize, usize)>; 2]>;
+
+/// Partners being chosen (and kept), or replayed.
+enum Pairs<'a> {
+    Record(&'a mut Pairings),
+    Replay(&'a Pairings),
+}
+
+impl Pairs<'_> {
+    /// The partners of list `which` of step `key`: recorded ones when
+    /// replaying (chosen anew, should a step be new), else chosen now.
+    fn get(
+        &mut self,
+        key: (u32, u32),
+        which: usize,
+        choose: impl FnOnce() -> Vec<(usize, usize)>,
+    ) -> std::borrow::Cow<'_, [(usize, usize)]> {
+        match self {
+            Self::Replay(p) => match p.get(&key) {
+                Some(lists) => std::borrow::Cow::Borrowed(&lists[which]),
+                None => std::borrow::Cow::Owned(choose()),
+            },
+            Self::Record(p) => {
+                let lists = p.entry(key).or_default();
+                lists[which] = choose();
+                std::borrow::Cow::Borrowed(&lists[which])
+            }
+        }
+    }
+}
+
+/// World to the frame of `scope`, in units of its size's length (below
+/// 1e-6 it counts as 1e-6). One scale for all axes: dividing by each
+/// axis's size would make a thin branch's width count ten times its length.
+fn local_frame(scope: &crate::express::Scope) -> Affine3A {
+    let size = Vec3::from(scope.size).length().max(1e-6);
+    Affine3A::from_scale(Vec3::splat(size.recip())) * scope.frame.inverse()
+}
 
 /// A shape of the co-derivation tree still to derive.
 enum Work {
@@ -56,6 +101,23 @@ impl Transformation {
 
     /// [`at`](Self::at) into `out` (cleared first).
     pub fn at_into(&self, t: f32, out: &mut Vec<Placed>) {
+        let pairings = self.pairings.get_or_init(|| {
+            // Partners are chosen once, on the designs blended halfway, and
+            // kept for every t: no shape changes partner mid-sequence.
+            let mut recorded = Pairings::default();
+            let mut scratch = Vec::new();
+            self.derive_at(
+                REFERENCE_TIME,
+                &mut Pairs::Record(&mut recorded),
+                &mut scratch,
+            );
+            recorded
+        });
+        self.derive_at(t, &mut Pairs::Replay(pairings), out);
+    }
+
+    /// The co-derivation at `t`, with partners recorded or replayed.
+    fn derive_at(&self, t: f32, pairs: &mut Pairs<'_>, out: &mut Vec<Placed>) {
         out.clear();
         let t = if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) };
         let (a, b) = (self.a.stepper(), self.b.stepper());
@@ -103,7 +165,7 @@ impl Transformation {
                     sb,
                     m,
                 } => {
-                    self.pair_step(t, (pa, pb), (&*sa, &*sb), m, &mut queue, out);
+                    self.pair_step(t, (pa, pb, m), (&*sa, &*sb), pairs, &mut queue, out);
                 }
             }
         }
@@ -173,37 +235,40 @@ impl Transformation {
     fn pair_step(
         &self,
         t: f32,
-        (pa, pb): (u32, u32),
+        (pa, pb, m): (u32, u32, usize),
         (sa, sb): (&dyn StateObj, &dyn StateObj),
-        m: usize,
+        pairs: &mut Pairs<'_>,
         queue: &mut VecDeque<Work>,
         out: &mut Vec<Placed>,
     ) {
+        let key = (pa, pb);
         let timeline = self.matches.timelines()[m];
         let w = timeline.weight(t);
         let switched = timeline.switched(t);
         let pivot = self.settings.pivot;
-        let scale = {
-            let s = sa.scope().size;
-            s.length().max(1e-6)
-        };
+        // Boxes are compared in the frame of the shape being derived, in
+        // units of its size: what its rules place relative to it moves
+        // little as the shape itself is blended, so the pairing holds over t.
+        let local = local_frame(&sa.scope());
         let side_a = self.derive(false, pa, sa);
         let side_b = self.derive(true, pb, sb);
 
         // Terminals: instances of matched emitting nodes pair; the same
         // shape is preferred (one box-distance unit) over another.
         let (ta, tb) = (&side_a.terminals.0, &side_b.terminals.0);
-        let corners_a: Vec<_> = ta.iter().map(|i| corners(&i.transform)).collect();
-        let corners_b: Vec<_> = tb.iter().map(|i| corners(&i.transform)).collect();
+        let corners_a: Vec<_> = ta.iter().map(|i| corners(&(local * i.transform))).collect();
+        let corners_b: Vec<_> = tb.iter().map(|i| corners(&(local * i.transform))).collect();
         let cost = |i: usize, j: usize| {
             self.matches.of(ta[i].node, tb[j].node)?;
             let same = self.shape_of(false, ta[i].shape) == self.shape_of(true, tb[j].shape);
             let penalty = if same { 0.0 } else { 1.0 };
-            Some(distance(&corners_a[i], &corners_b[j], scale) + penalty)
+            Some(distance(&corners_a[i], &corners_b[j]) + penalty)
         };
-        let pairs = pair(self.settings.pairing, ta.len(), tb.len(), &cost);
+        let terminal_pairs = pairs.get(key, 0, || {
+            pair(self.settings.pairing, ta.len(), tb.len(), &cost)
+        });
         let (mut used_a, mut used_b) = (vec![false; ta.len()], vec![false; tb.len()]);
-        for &(i, j) in &pairs {
+        for &(i, j) in terminal_pairs.iter() {
             used_a[i] = true;
             used_b[j] = true;
             let (x, y) = (&ta[i], &tb[j]);
@@ -232,15 +297,17 @@ impl Transformation {
             .iter()
             .map(|(p, s, _)| self.first_box(true, *p, &**s))
             .collect();
-        let boxes_a: Vec<_> = first_a.iter().map(corners).collect();
-        let boxes_b: Vec<_> = first_b.iter().map(corners).collect();
+        let boxes_a: Vec<_> = first_a.iter().map(|b| corners(&(local * *b))).collect();
+        let boxes_b: Vec<_> = first_b.iter().map(|b| corners(&(local * *b))).collect();
         let cost = |i: usize, j: usize| {
             self.matches.of(la[i].2, lb[j].2)?;
-            Some(distance(&boxes_a[i], &boxes_b[j], scale))
+            Some(distance(&boxes_a[i], &boxes_b[j]))
         };
-        let pairs = pair(self.settings.pairing, la.len(), lb.len(), &cost);
+        let leaf_pairs = pairs.get(key, 1, || {
+            pair(self.settings.pairing, la.len(), lb.len(), &cost)
+        });
         let (mut used_a, mut used_b) = (vec![false; la.len()], vec![false; lb.len()]);
-        for &(i, j) in &pairs {
+        for &(i, j) in leaf_pairs.iter() {
             used_a[i] = true;
             used_b[j] = true;
             let (x, y) = (&la[i], &lb[j]);

@@ -150,6 +150,9 @@ pub struct TransformFile {
     pub frames: Frames,
     /// Files it read (chromosomes), which outputs must not replace.
     pub inputs: Vec<PathBuf>,
+    /// The user's edits: matches added or removed and timelines set (the
+    /// thesis's "#Edits", Tab. 5.1).
+    pub edits: usize,
 }
 
 struct Src<'a> {
@@ -256,6 +259,7 @@ impl TransformFile {
             transformation: t,
             frames: f,
             inputs,
+            edits: file.matches.add.len() + file.matches.remove.len() + file.timeline.len(),
         })
     }
 }

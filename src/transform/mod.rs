@@ -174,6 +174,8 @@ pub struct Transformation {
     shapes: Vec<Cow<'static, str>>,
     shape_map_a: Vec<ShapeId>,
     shape_map_b: Vec<ShapeId>,
+    /// Partners, chosen on first use and kept for every t.
+    pairings: std::sync::OnceLock<coderive::Pairings>,
 }
 
 impl Transformation {
@@ -203,6 +205,7 @@ impl Transformation {
             shapes,
             shape_map_a,
             shape_map_b,
+            pairings: std::sync::OnceLock::new(),
         }
     }
 
@@ -210,6 +213,7 @@ impl Transformation {
     #[must_use]
     pub fn with_settings(mut self, settings: Settings) -> Self {
         self.settings = settings;
+        self.pairings = std::sync::OnceLock::new();
         self
     }
 
@@ -239,11 +243,13 @@ impl Transformation {
 
     /// Adds the match of the first generator's node `a` with the second's `b`.
     pub fn add_match(&mut self, a: &str, b: &str) -> Result<(), TransformError> {
+        self.pairings = std::sync::OnceLock::new();
         self.matches.add(self.a.graph(), self.b.graph(), a, b)
     }
 
     /// Removes the match of `a` with `b`.
     pub fn remove_match(&mut self, a: &str, b: &str) -> Result<(), TransformError> {
+        self.pairings = std::sync::OnceLock::new();
         self.matches.remove(self.a.graph(), self.b.graph(), a, b)
     }
 
@@ -254,6 +260,7 @@ impl Transformation {
         b: &str,
         timeline: Timeline,
     ) -> Result<(), TransformError> {
+        self.pairings = std::sync::OnceLock::new();
         self.matches
             .set_timeline(self.a.graph(), self.b.graph(), a, b, timeline)
     }
@@ -267,8 +274,25 @@ impl Transformation {
                 reason,
             });
         }
+        self.pairings = std::sync::OnceLock::new();
         self.matches.set_all_timelines(timeline);
         Ok(())
+    }
+
+    /// Rules (nodes) of both generators, and the share of them (in %) that
+    /// have at least one match: the sparsity of the correspondences
+    /// (thesis Tab. 5.1, "#Rules" and "%NT w. Match").
+    #[must_use]
+    pub fn matched_rules(&self) -> (usize, f64) {
+        let (ga, gb) = (self.a.graph(), self.b.graph());
+        let rules = ga.node_count() + gb.node_count();
+        let matched = (0..ga.node_count() as NodeId)
+            .filter(|&n| self.matches.matched_a(n))
+            .count()
+            + (0..gb.node_count() as NodeId)
+                .filter(|&n| self.matches.matched_b(n))
+                .count();
+        (rules, 100.0 * matched as f64 / rules.max(1) as f64)
     }
 
     /// The shape names [`Placed::shape`] indexes: the first design's, then

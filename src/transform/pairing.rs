@@ -31,12 +31,12 @@ pub fn corners(t: &Affine3A) -> [Vec3; 8] {
 }
 
 /// The thesis's geometric distance: the sum of the distances of the eight
-/// corresponding corners, divided by `scale` (the size of the shape being
-/// co-derived) so that it does not depend on the model's units.
+/// corresponding corners. Co-derivation measures it in the unit box of the
+/// shape being derived, so that it depends neither on the model's units
+/// nor on where that shape is blended to.
 #[must_use]
-pub fn distance(a: &[Vec3; 8], b: &[Vec3; 8], scale: f32) -> f32 {
-    let d: f32 = a.iter().zip(b).map(|(p, q)| p.distance(*q)).sum();
-    d / scale.max(f32::MIN_POSITIVE)
+pub fn distance(a: &[Vec3; 8], b: &[Vec3; 8]) -> f32 {
+    a.iter().zip(b).map(|(p, q)| p.distance(*q)).sum()
 }
 
 /// Fixed-point scale of Munkres' integer weights.
@@ -215,17 +215,10 @@ mod tests {
     }
 
     #[test]
-    fn distance_ignores_units() {
+    fn distance_sums_corner_distances() {
         let a = corners(&Affine3A::IDENTITY);
         let b = corners(&Affine3A::from_translation(Vec3::X));
-        let big = |t: Affine3A| corners(&(Affine3A::from_scale(Vec3::splat(10.0)) * t));
-        let d = distance(&a, &b, 1.0);
-        assert!((d - 8.0).abs() < 1e-5);
-        let d10 = distance(
-            &big(Affine3A::IDENTITY),
-            &big(Affine3A::from_translation(Vec3::X)),
-            10.0,
-        );
-        assert!((d10 - d).abs() < 1e-4);
+        assert!((distance(&a, &b) - 8.0).abs() < 1e-5);
+        assert_eq!(distance(&a, &a), 0.0);
     }
 }
