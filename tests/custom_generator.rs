@@ -310,3 +310,39 @@ fn write_model_writes_the_meshes_it_is_given() {
     assert_eq!(names, ["model.obj"]);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A user's generator with its own state type (`Twig`, blended through its
+/// scope) transforms into a paper tree (a plain `Scope`) through the
+/// command line; the endpoints are the two designs.
+#[test]
+fn transforms_into_a_paper_tree() {
+    let dir = temp("transform");
+    let file = dir.join("t.toml");
+    std::fs::write(
+        &file,
+        "[first]\ngenerator = \"topiary\"\nseed = 4\n\n[second]\ngenerator = \"tree_v2\"\nseed = 9\n\n\
+         [matches]\nadd = [[\"Stem\", \"T\"], [\"Branch\", \"b\"], [\"Branch\", \"n\"], [\"Branch\", \"m\"]]\n\n\
+         [frames]\ncount = 5\nsize = 64\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    run(&[
+        "transform",
+        file.to_str().unwrap(),
+        "-q",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let facts = json(&out.join("sequence.json"));
+    assert_eq!(facts["matches"], 5, "{facts}");
+    assert!(out.join("sequence.gif").is_file());
+
+    let registry = Registry::builtin().with("topiary", Topiary);
+    let t = shapegen::transform::TransformFile::load(&file, &registry)
+        .unwrap()
+        .transformation;
+    let count = |d: &shapegen::transform::Design| d.express().len();
+    assert_eq!(t.at(0.0).len(), count(t.first()));
+    assert_eq!(t.at(1.0).len(), count(t.second()));
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -303,3 +303,35 @@ proptest! {
         prop_assert_eq!(sources(t), sources(u));
     }
 }
+
+/// A timeline with start = end is a rule switch: the first design before
+/// it, the second from it on; a later start holds the first design longer.
+#[test]
+fn timelines_switch_and_delay() {
+    let a = Design::default_model(MonopodialTree).unwrap();
+    let b = Design::default_model(SympodialTree).unwrap();
+    let mut tr = Transformation::new(a.clone(), b.clone());
+    tr.set_all_timelines(shapegen::transform::Timeline {
+        start: 0.5,
+        end: 0.5,
+        threshold: 0.5,
+    })
+    .unwrap();
+    close(&placed_rows(&tr.at(0.49)), &own_rows(&tr, &a)).unwrap();
+    close(&placed_rows(&tr.at(0.5)), &own_rows(&tr, &b)).unwrap();
+    let mut late = Transformation::new(a.clone(), b);
+    late.set_all_timelines(shapegen::transform::Timeline {
+        start: 0.6,
+        end: 1.0,
+        threshold: 0.8,
+    })
+    .unwrap();
+    close(&placed_rows(&late.at(0.6)), &own_rows(&late, &a)).unwrap();
+    assert_ne!(placed_rows(&late.at(0.8)), own_rows(&late, &a));
+    let bad = shapegen::transform::Timeline {
+        start: 0.9,
+        end: 0.1,
+        threshold: 0.5,
+    };
+    assert!(late.set_all_timelines(bad).is_err());
+}

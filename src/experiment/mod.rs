@@ -122,6 +122,7 @@ mod file;
 mod memory;
 pub(crate) mod problem;
 mod resolve;
+pub(crate) use resolve::toml_key;
 
 use std::collections::BTreeMap;
 use std::fmt;

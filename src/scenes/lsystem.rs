@@ -69,6 +69,13 @@ fn side(t: &mut Scope, a: f32) {
     roll_to_horizontal(t);
 }
 
+/// The segments `B` and `C` grow from `s`: a lateral turned by `a2` to
+/// one side and kept horizontal (contracted by `r2`), and the axis straight
+/// on (contracted by `r1`).
+fn alternate(s: &Scope, a2: f32, r1: f32, r2: f32) -> (Scope, Scope) {
+    (child(s, |t| side(t, a2), r2), child(s, |_| {}, r1))
+}
+
 /// Where the unit frustum of a segment goes.
 fn drawn(s: &Scope) -> Affine3A {
     s.instance()
@@ -116,8 +123,9 @@ generator! {
         slots { lateral: C = 1.0, axis: C = 1.0 }
         |s| {
             emit!(frustum, drawn(&s));
-            child!(lateral, child(&s, |t| side(t, a2), r2));
-            child!(axis, child(&s, |_| {}, r1));
+            let (lateral_segment, axis_segment) = alternate(&s, a2, r1, r2);
+            child!(lateral, lateral_segment);
+            child!(axis, axis_segment);
         }
     }
 
@@ -131,8 +139,9 @@ generator! {
         slots { lateral: B = 1.0, axis: B = 1.0 }
         |s| {
             emit!(frustum, drawn(&s));
-            child!(lateral, child(&s, |t| side(t, a2), r2));
-            child!(axis, child(&s, |_| {}, r1));
+            let (lateral_segment, axis_segment) = alternate(&s, a2, r1, r2);
+            child!(lateral, lateral_segment);
+            child!(axis, axis_segment);
         }
     }
 }

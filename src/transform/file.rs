@@ -203,13 +203,7 @@ impl TransformFile {
         let file: File = match toml::de::Deserializer::parse(text) {
             Err(e) => return Err(src.error(e.span().unwrap_or(0..0), e.message())),
             Ok(de) => serde_path_to_error::deserialize(de).map_err(|e| {
-                let key = e
-                    .path()
-                    .to_string()
-                    .split('.')
-                    .filter(|k| !k.starts_with("$__") && !k.is_empty())
-                    .collect::<Vec<_>>()
-                    .join(".");
+                let key = crate::experiment::toml_key(e.path());
                 let inner = e.into_inner();
                 let message = if key.is_empty() {
                     inner.message().to_string()

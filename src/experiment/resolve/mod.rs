@@ -174,19 +174,22 @@ fn unseen(e: &Experiment) -> Option<String> {
     ))
 }
 
+/// The dotted key of a TOML deserialization error's path (`ga.population`),
+/// without the private segments `Spanned` values add.
+pub(crate) fn toml_key(path: &serde_path_to_error::Path) -> String {
+    path.to_string()
+        .split('.')
+        .filter(|k| !k.starts_with("$__") && !k.is_empty())
+        .collect::<Vec<_>>()
+        .join(".")
+}
+
 /// The TOML text as the file schema, with the key and line of any mistake.
 fn parse(src: &Source<'_>) -> Result<ExperimentFile, ExperimentError> {
     match toml::de::Deserializer::parse(src.text) {
         Err(e) => Err(src.error("", e.span().unwrap_or(0..0), e.message())),
         Ok(de) => serde_path_to_error::deserialize(de).map_err(|e| {
-            // `Spanned` values add a private segment to the path.
-            let key = e
-                .path()
-                .to_string()
-                .split('.')
-                .filter(|k| !k.starts_with("$__") && !k.is_empty())
-                .collect::<Vec<_>>()
-                .join(".");
+            let key = toml_key(e.path());
             let inner = e.into_inner();
             src.error(&key, inner.span().unwrap_or(0..0), inner.message())
         }),
