@@ -111,7 +111,12 @@ pub(super) fn transform(cli: &Cli, args: &TransformArgs) -> Result<(), CliError>
     if pictures.len() > 1 {
         write_gif(&out.join("sequence.gif"), &pictures)?;
     }
-    write_page(&out.join("index.html"), &pictures, &facts)?;
+    let title = format!(
+        "{} → {}",
+        t.first().graph().name(),
+        t.second().graph().name()
+    );
+    write_page(&out.join("index.html"), &title, &pictures, &facts)?;
     let smoothness = Smoothness::of(&facts);
     let summary = serde_json::json!({
         "file": args.file.display().to_string(),
@@ -173,6 +178,7 @@ fn write_gif(path: &std::path::Path, frames: &[image::RgbaImage]) -> Result<(), 
 /// A page with every frame embedded and a slider over the timeline.
 fn write_page(
     path: &std::path::Path,
+    title: &str,
     frames: &[image::RgbaImage],
     facts: &[FrameFacts],
 ) -> Result<(), CliError> {
@@ -186,7 +192,12 @@ fn write_page(
     }
     let times: Vec<f32> = facts.iter().map(|f| f.t).collect();
     let data = serde_json::json!({ "frames": uris, "times": times }).to_string();
+    let title = title
+        .replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;");
     let html = PAGE
+        .replace("{{TITLE}}", &title)
         .replace("{{LAST}}", &(frames.len().saturating_sub(1)).to_string())
         .replace("{{DATA}}", &data.replace("</", "<\\/"));
     crate::score::write_atomically(path, html.as_bytes())?;
@@ -197,15 +208,21 @@ const PAGE: &str = r#"<!doctype html>
 <html lang="en"><head><meta charset="utf-8"><title>shapegen transformation</title>
 <style>body{font-family:sans-serif;margin:2em;background:#fafafa}img{display:block;border:1px solid #ccc;background:#fff;max-width:100%}
 input{width:min(100%,640px)}</style></head>
-<body><h1>Design transformation</h1>
+<body><h1>Design transformation: {{TITLE}}</h1>
 <img id="frame" alt="the design at the chosen time">
-<p><label>t = <output id="t">0</output><br><input id="slider" type="range" min="0" max="{{LAST}}" value="0"></label></p>
+<p><label>t = <output id="t">0</output><br><input id="slider" type="range" min="0" max="{{LAST}}" value="0"></label>
+<button id="play" type="button">play</button></p>
 <script id="data" type="application/json">{{DATA}}</script>
 <script>
 const data = JSON.parse(document.getElementById('data').textContent);
 const img = document.getElementById('frame'), slider = document.getElementById('slider'), out = document.getElementById('t');
 function show(k) { img.src = data.frames[k]; out.textContent = data.times[k].toFixed(3); }
 slider.addEventListener('input', () => show(+slider.value));
+let timer = null;
+document.getElementById('play').addEventListener('click', () => {
+  if (timer) { clearInterval(timer); timer = null; return; }
+  timer = setInterval(() => { slider.value = (+slider.value + 1) % data.frames.length; show(+slider.value); }, 40);
+});
 show(0);
 </script></body></html>
 "#;
