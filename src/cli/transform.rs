@@ -18,6 +18,19 @@ use crate::transform::{Placed, TransformFile};
 
 /// Frames shown on the contact sheet at most.
 const SHEET_FRAMES: usize = 12;
+/// Frames the animation and the page hold at most (evenly chosen), and
+/// their largest side: what stays in memory whatever `--frames` asks.
+const SHOWN_FRAMES: usize = 300;
+const SHOWN_SIZE: u32 = 360;
+/// What the command writes into `--out`.
+const OUTPUTS: [&str; 6] = [
+    "frames",
+    "contact.png",
+    "sequence.gif",
+    "index.html",
+    "sequence.json",
+    "summary.json",
+];
 
 /// Runs `shapegen transform`.
 pub(super) fn transform(cli: &Cli, args: &TransformArgs) -> Result<(), CliError> {
@@ -36,10 +49,8 @@ pub(super) fn transform(cli: &Cli, args: &TransformArgs) -> Result<(), CliError>
     let _taken = guard::take_output_dir(&args.out)?;
     let mut inputs = file.inputs.clone();
     inputs.push(args.file.clone());
-    guard::refuse_overwriting_inputs(
-        &[args.out.join("frames"), args.out.join("index.html")],
-        &inputs,
-    )?;
+    let outputs: Vec<_> = OUTPUTS.iter().map(|f| args.out.join(f)).collect();
+    guard::refuse_overwriting_inputs(&outputs, &inputs)?;
     let t = &file.transformation;
     let viewpoint = Viewpoint {
         azimuth: file.frames.azimuth.to_radians(),
@@ -64,7 +75,9 @@ pub(super) fn transform(cli: &Cli, args: &TransformArgs) -> Result<(), CliError>
         bar
     });
     let mut facts = Vec::with_capacity(times.len());
-    let mut pictures = Vec::with_capacity(times.len());
+    // The frames the sheet, the animation and the page show (indices into facts).
+    let mut pictures = Vec::new();
+    let mut shown = Vec::new();
     let mut shapes: Vec<Placed> = Vec::new();
     let started = Instant::now();
     for (k, &time) in times.iter().enumerate() {
@@ -94,7 +107,20 @@ pub(super) fn transform(cli: &Cli, args: &TransformArgs) -> Result<(), CliError>
             derive_ms,
             change,
         });
-        pictures.push(picture);
+        let every = times.len().div_ceil(SHOWN_FRAMES);
+        if k % every == 0 || k + 1 == times.len() {
+            pictures.push(if picture.width() > SHOWN_SIZE {
+                image::imageops::resize(
+                    &picture,
+                    SHOWN_SIZE,
+                    SHOWN_SIZE,
+                    image::imageops::FilterType::Triangle,
+                )
+            } else {
+                picture
+            });
+            shown.push(facts.len() - 1);
+        }
         if let Some(bar) = &bar {
             bar.set_position(k as u64 + 1);
         }
@@ -116,7 +142,8 @@ pub(super) fn transform(cli: &Cli, args: &TransformArgs) -> Result<(), CliError>
         t.first().graph().name(),
         t.second().graph().name()
     );
-    write_page(&out.join("index.html"), &title, &pictures, &facts)?;
+    let shown_facts: Vec<FrameFacts> = shown.iter().map(|&k| facts[k].clone()).collect();
+    write_page(&out.join("index.html"), &title, &pictures, &shown_facts)?;
     let smoothness = Smoothness::of(&facts);
     let summary = serde_json::json!({
         "file": args.file.display().to_string(),
@@ -142,18 +169,27 @@ pub(super) fn transform(cli: &Cli, args: &TransformArgs) -> Result<(), CliError>
         &serde_json::json!({ "frames": times.len(), "seconds": started.elapsed().as_secs_f64() }),
     )?;
     stage.publish()?;
-    outln!(
-        "{} frames of `{}` into `{}` ({} matches, {:.2} ms per model; largest change between frames {:.4} (1 - IoU), 95th percentile {:.4}, instance count changes {}) in {}",
-        times.len(),
-        t.first().graph().name(),
-        t.second().graph().name(),
-        t.matches().pairs().len(),
-        facts.iter().map(|f| f.derive_ms).sum::<f64>() / facts.len() as f64,
-        smoothness.largest_change,
-        smoothness.p95_change,
-        smoothness.count_changes,
-        args.out.display()
-    );
+    let (first, second) = (t.first().graph().name(), t.second().graph().name());
+    if let [only] = facts.as_slice() {
+        outln!(
+            "`{first}` into `{second}` at t = {}: {} instances, {:.2} ms; wrote {}",
+            only.t,
+            only.instances,
+            only.derive_ms,
+            args.out.display()
+        );
+    } else {
+        outln!(
+            "{} frames of `{first}` into `{second}` ({} matches, {:.2} ms per model; largest change between frames {:.4} (1 - IoU), 95th percentile {:.4}, instance count changes {}) in {}",
+            times.len(),
+            t.matches().pairs().len(),
+            facts.iter().map(|f| f.derive_ms).sum::<f64>() / facts.len() as f64,
+            smoothness.largest_change,
+            smoothness.p95_change,
+            smoothness.count_changes,
+            args.out.display()
+        );
+    }
     Ok(())
 }
 
