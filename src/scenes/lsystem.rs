@@ -1,6 +1,6 @@
 //! The thesis's tree pair (Lienhard, Fig. 5.1 and §A.2): Honda's monopodial
 //! tree and Aono and Kunii's sympodial tree, from *The Algorithmic Beauty
-//! of Plants* (Prusinkiewicz and Lindenmayer 1990, Figs. 2.6a and 2.7b),
+//! of Plants* (Prusinkiewicz and Lindenmayer 1990, Figs. 2.6a and 2.7a),
 //! written turtle style: a parent places each child's segment at its own
 //! tip, so a node's state is the box of the segment it draws (heading along
 //! local y, size `(w, l, w)`).
@@ -147,7 +147,7 @@ generator! {
 }
 
 generator! {
-    /// Aono and Kunii's sympodial tree (ABOP Fig. 2.7b): every apex ends in
+    /// Aono and Kunii's sympodial tree (ABOP Fig. 2.7a): every apex ends in
     /// two laterals, one nearly straight on (`a1`, contracted by `r1`) and
     /// one wide (`a2`, contracted by `r2`); the trunk's two are rolled
     /// half a turn apart, later ones kept horizontal.
