@@ -256,15 +256,15 @@ impl Transformation {
         // Terminals: instances of matched emitting nodes pair; the same
         // shape is preferred (one box-distance unit) over another.
         let (ta, tb) = (&side_a.terminals.0, &side_b.terminals.0);
-        let corners_a: Vec<_> = ta.iter().map(|i| corners(&(local * i.transform))).collect();
-        let corners_b: Vec<_> = tb.iter().map(|i| corners(&(local * i.transform))).collect();
-        let cost = |i: usize, j: usize| {
-            self.matches.of(ta[i].node, tb[j].node)?;
-            let same = self.shape_of(false, ta[i].shape) == self.shape_of(true, tb[j].shape);
-            let penalty = if same { 0.0 } else { 1.0 };
-            Some(distance(&corners_a[i], &corners_b[j]) + penalty)
-        };
         let terminal_pairs = pairs.get(key, 0, || {
+            let corners_a: Vec<_> = ta.iter().map(|i| corners(&(local * i.transform))).collect();
+            let corners_b: Vec<_> = tb.iter().map(|i| corners(&(local * i.transform))).collect();
+            let cost = |i: usize, j: usize| {
+                self.matches.of(ta[i].node, tb[j].node)?;
+                let same = self.shape_of(false, ta[i].shape) == self.shape_of(true, tb[j].shape);
+                let penalty = if same { 0.0 } else { 1.0 };
+                Some(distance(&corners_a[i], &corners_b[j]) + penalty)
+            };
             pair(self.settings.pairing, ta.len(), tb.len(), &cost)
         });
         let (mut used_a, mut used_b) = (vec![false; ta.len()], vec![false; tb.len()]);
@@ -289,21 +289,17 @@ impl Transformation {
 
         // Shapes with a match: pair on where their subtrees start.
         let (la, lb) = (&side_a.leaves, &side_b.leaves);
-        let first_a: Vec<_> = la
-            .iter()
-            .map(|(p, s, _)| self.first_box(false, *p, &**s))
-            .collect();
-        let first_b: Vec<_> = lb
-            .iter()
-            .map(|(p, s, _)| self.first_box(true, *p, &**s))
-            .collect();
-        let boxes_a: Vec<_> = first_a.iter().map(|b| corners(&(local * *b))).collect();
-        let boxes_b: Vec<_> = first_b.iter().map(|b| corners(&(local * *b))).collect();
-        let cost = |i: usize, j: usize| {
-            self.matches.of(la[i].2, lb[j].2)?;
-            Some(distance(&boxes_a[i], &boxes_b[j]))
-        };
         let leaf_pairs = pairs.get(key, 1, || {
+            let boxes = |second: bool, list: &[(u32, DynState, NodeId)]| -> Vec<_> {
+                list.iter()
+                    .map(|(p, s, _)| corners(&(local * self.first_box(second, *p, &**s))))
+                    .collect()
+            };
+            let (boxes_a, boxes_b) = (boxes(false, la), boxes(true, lb));
+            let cost = |i: usize, j: usize| {
+                self.matches.of(la[i].2, lb[j].2)?;
+                Some(distance(&boxes_a[i], &boxes_b[j]))
+            };
             pair(self.settings.pairing, la.len(), lb.len(), &cost)
         });
         let (mut used_a, mut used_b) = (vec![false; la.len()], vec![false; lb.len()]);
@@ -320,17 +316,15 @@ impl Transformation {
                 m: self.matches.of(x.2, y.2).expect("paired shapes match"),
             });
         }
-        for (second, list, first, used) in [
-            (false, la, &first_a, &used_a),
-            (true, lb, &first_b, &used_b),
-        ] {
-            for (k, (pos, state, node)) in list.iter().enumerate().filter(|(k, _)| !used[*k]) {
+        for (second, list, used) in [(false, la, &used_a), (true, lb, &used_b)] {
+            for ((pos, state, node), _) in list.iter().zip(used.iter()).filter(|(_, u)| !**u) {
                 if let Some(fade) = self.fade(second, w, switched) {
                     // It grows out of (shrinks into) where its subtree starts.
+                    let first = self.first_box(second, *pos, &**state);
                     queue.push_back(Work::Single {
                         second,
                         pos: *pos,
-                        about: pivot.of_instance(&first[k]),
+                        about: pivot.of_instance(&first),
                         state: state.with_scope(state.scope()),
                         fade,
                         node: *node,
