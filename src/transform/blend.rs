@@ -15,6 +15,33 @@ use crate::express::Scope;
 ///
 /// `state.with_scope(state.scope())` must equal `state`: the endpoints of a
 /// transformation are then exactly the two designs.
+///
+/// ```
+/// use shapegen::express::Scope;
+/// use shapegen::transform::Blend;
+///
+/// /// A state with a scope and something of its own.
+/// #[derive(Clone, Copy)]
+/// struct Twig {
+///     scope: Scope,
+///     girth: f32,
+/// }
+///
+/// impl Blend for Twig {
+///     fn scope(&self) -> Scope {
+///         self.scope
+///     }
+///
+///     fn with_scope(&self, scope: Scope) -> Self {
+///         Self { scope, ..*self }
+///     }
+/// }
+/// ```
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` does not say how a design transformation blends it",
+    label = "a generator's state must implement `shapegen::transform::Blend`",
+    note = "implement `Blend` for `{Self}`: `fn scope(&self) -> Scope` (which part is the box) and `fn with_scope(&self, scope: Scope) -> Self`; examples/custom_generator/topiary.rs shows it"
+)]
 pub trait Blend: Clone + Send + Sync + 'static {
     /// The oriented box of this state.
     fn scope(&self) -> Scope;
