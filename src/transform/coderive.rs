@@ -51,6 +51,24 @@ impl Pairs<'_> {
     }
 }
 
+/// Where an unpaired shape placed by `first` grows out of (or shrinks
+/// into): with the base pivot, its base (a branch's attachment point);
+/// with the centre pivot, the point of its box nearest the centre of the
+/// shape being derived (where a box touches what it was attached to, not
+/// its middle, which would leave it floating while it grows).
+fn growth_point(pivot: Pivot, first: &Affine3A, parent_centre: Vec3) -> Vec3 {
+    match pivot {
+        Pivot::Base => pivot.of_instance(first),
+        Pivot::Centre => {
+            if first.matrix3.determinant().abs() < 1e-12 {
+                return first.translation.into();
+            }
+            let local = first.inverse().transform_point3(parent_centre);
+            first.transform_point3(local.clamp(Vec3::splat(-0.5), Vec3::splat(0.5)))
+        }
+    }
+}
+
 /// World to the frame of `scope`, in units of its size's length (below
 /// 1e-6 it counts as 1e-6). One scale for all axes: dividing by each
 /// axis's size would make a thin branch's width count ten times its length.
@@ -250,6 +268,7 @@ impl Transformation {
         // units of its size: what its rules place relative to it moves
         // little as the shape itself is blended, so the pairing holds over t.
         let local = local_frame(&sa.scope());
+        let parent_centre = sa.scope().origin();
         let side_a = self.derive(false, pa, sa);
         let side_b = self.derive(true, pb, sb);
 
@@ -282,7 +301,8 @@ impl Transformation {
         for (second, list, used) in [(false, ta, &used_a), (true, tb, &used_b)] {
             for (x, _) in list.iter().zip(used.iter()).filter(|(_, u)| !**u) {
                 if let Some(fade) = self.fade(second, w, switched) {
-                    out.push(self.single(second, x, pivot, fade));
+                    let about = growth_point(pivot, &x.transform, parent_centre);
+                    out.push(self.single(second, x, about, fade));
                 }
             }
         }
@@ -324,7 +344,7 @@ impl Transformation {
                     queue.push_back(Work::Single {
                         second,
                         pos: *pos,
-                        about: pivot.of_instance(&first),
+                        about: growth_point(pivot, &first, parent_centre),
                         state: state.with_scope(state.scope()),
                         fade,
                         node: *node,
@@ -346,10 +366,10 @@ impl Transformation {
         }
     }
 
-    fn single(&self, second: bool, x: &Instance, pivot: Pivot, fade: f32) -> Placed {
+    fn single(&self, second: bool, x: &Instance, about: Vec3, fade: f32) -> Placed {
         Placed {
             shape: self.shape_of(second, x.shape),
-            transform: scaled_about(&x.transform, pivot.of_instance(&x.transform), fade),
+            transform: scaled_about(&x.transform, about, fade),
             source: if second {
                 Source::B(x.node)
             } else {
