@@ -1,7 +1,8 @@
 //! Property test: for every paper generator and random chromosomes (random
 //! individuals changed by random operators), the geometry expressed by the
 //! macro-generated code equals the interpreter's, instance for instance,
-//! and stepping one gene at a time (`express_gene`) gives the same instances.
+//! and stepping one gene at a time (`express_gene`, `express_from`) gives
+//! the same instances.
 
 use proptest::prelude::*;
 use rand::RngExt;
@@ -48,6 +49,10 @@ fn same<G: Generator>(
     prop_assert_eq!(&a, &b);
     prop_assert_eq!(&stepped(generator, &c), &a);
     prop_assert_eq!(&stepped(interpreter, &c), &a);
+    let mut from_root = Instances::default();
+    let mut pending = shapegen::express::Pending::new();
+    generator.express_from(&c, 0, generator.axiom(), &mut from_root, &mut pending);
+    prop_assert_eq!(&from_root, &a);
     Ok(())
 }
 

@@ -108,17 +108,13 @@ where
         state: &dyn StateObj,
         out: &mut Instances,
     ) {
-        let mut stack = Pending::new();
-        let mut children = Pending::new();
-        stack.push(pos, Self::state(state));
-        while let Some((p, s)) = stack.pop() {
-            self.0.express_gene(chromosome, p, s, out, &mut children);
-            let start = stack.len();
-            for (c, cs) in children.drain() {
-                stack.push(c, cs);
-            }
-            stack.reverse_from(start);
-        }
+        self.0.express_from(
+            chromosome,
+            pos,
+            Self::state(state),
+            out,
+            &mut Pending::new(),
+        );
     }
 }
 

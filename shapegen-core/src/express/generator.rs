@@ -56,6 +56,34 @@ pub trait Generator: Sync {
         children: &mut Pending<Self::State>,
     );
 
+    /// Expresses the subtree of the gene at `pos` from `state`: that gene,
+    /// then every gene below it, depth first, children in the order their
+    /// parent schedules them, one [`express_gene`](Self::express_gene) each.
+    /// From position 0 and the [`axiom`](Self::axiom) it is the whole
+    /// chromosome, as [`express_with`](Self::express_with) expresses it.
+    /// `pending` is working memory, cleared first.
+    ///
+    /// # Panics
+    /// As [`express_gene`](Self::express_gene), if `pos` is not a gene's position.
+    #[inline]
+    fn express_from<S: ModelSink>(
+        &self,
+        chromosome: &Chromosome,
+        pos: u32,
+        state: Self::State,
+        sink: &mut S,
+        pending: &mut Pending<Self::State>,
+    ) {
+        pending.clear();
+        pending.push(pos, state);
+        while let Some(state) = pending.pop_state() {
+            let pos = pending.pop_position();
+            let start = pending.len();
+            self.express_gene(chromosome, pos, state, sink, pending);
+            pending.reverse_from(start);
+        }
+    }
+
     /// [`express_with`](Self::express_with) with fresh working memory.
     fn express<S: ModelSink>(&self, chromosome: &Chromosome, sink: &mut S) {
         self.express_with(chromosome, sink, &mut Pending::new());
@@ -104,6 +132,18 @@ macro_rules! delegate_generator {
                 children: &mut Pending<Self::State>,
             ) {
                 (**self).express_gene(chromosome, pos, state, sink, children);
+            }
+
+            #[inline]
+            fn express_from<S: ModelSink>(
+                &self,
+                chromosome: &Chromosome,
+                pos: u32,
+                state: Self::State,
+                sink: &mut S,
+                pending: &mut Pending<Self::State>,
+            ) {
+                (**self).express_from(chromosome, pos, state, sink, pending);
             }
         }
     };

@@ -172,14 +172,7 @@ impl<St: Clone + Send + Sync> Generator for Interpreter<St> {
         sink: &mut S,
         stack: &mut Pending<St>,
     ) {
-        stack.clear();
-        stack.push(0, self.axiom.clone());
-        while let Some(state) = stack.pop_state() {
-            let pos = stack.pop_position();
-            let start = stack.len();
-            self.express_gene(chromosome, pos, state, sink, stack);
-            stack.reverse_from(start);
-        }
+        self.express_from(chromosome, 0, self.axiom.clone(), sink, stack);
     }
 
     fn express_gene<S: ModelSink>(
