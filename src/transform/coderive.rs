@@ -139,7 +139,6 @@ impl Transformation {
         out.clear();
         let t = if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) };
         let (a, b) = (self.a.stepper(), self.b.stepper());
-        let (ca, cb) = (self.a.chromosome(), self.b.chromosome());
         let pivot = self.settings.pivot;
         let (sa, sb) = (a.axiom(), b.axiom());
         let w0 = self.matches.timelines()[0].weight(t);
@@ -163,13 +162,11 @@ impl Transformation {
                     node,
                 } => {
                     scratch.0.clear();
-                    let (stepper, c) = if second { (b, cb) } else { (a, ca) };
-                    stepper.subtree(c, pos, &*state, &mut scratch);
-                    let source = if second {
-                        Source::B(node)
-                    } else {
-                        Source::A(node)
-                    };
+                    let design = self.design(second);
+                    design
+                        .stepper()
+                        .subtree(design.chromosome(), pos, &*state, &mut scratch);
+                    let source = Source::one(second, node);
                     out.extend(scratch.0.iter().map(|i| Placed {
                         shape: self.shape_of(second, i.shape),
                         transform: scaled_about(&i.transform, about, fade),
@@ -189,6 +186,11 @@ impl Transformation {
         }
     }
 
+    /// The first design, or the second.
+    fn design(&self, second: bool) -> &super::Design {
+        if second { &self.b } else { &self.a }
+    }
+
     fn shape_of(&self, second: bool, shape: ShapeId) -> ShapeId {
         if second {
             self.shape_map_b[shape as usize]
@@ -200,11 +202,8 @@ impl Transformation {
     /// Derives a matched shape with one design until every leaf is a
     /// terminal or has a match (Alg. 5.1), breadth first.
     fn derive(&self, second: bool, pos: u32, state: &dyn StateObj) -> Side {
-        let (stepper, c) = if second {
-            (self.b.stepper(), self.b.chromosome())
-        } else {
-            (self.a.stepper(), self.a.chromosome())
-        };
+        let design = self.design(second);
+        let (stepper, c) = (design.stepper(), design.chromosome());
         let matched = |n: NodeId| {
             if second {
                 self.matches.matched_b(n)
@@ -237,13 +236,11 @@ impl Transformation {
     /// places none in its first step): what pairing compares, since
     /// siblings may receive one and the same state from their parent.
     fn first_box(&self, second: bool, pos: u32, state: &dyn StateObj) -> Affine3A {
-        let (stepper, c) = if second {
-            (self.b.stepper(), self.b.chromosome())
-        } else {
-            (self.a.stepper(), self.a.chromosome())
-        };
+        let design = self.design(second);
         let mut out = Instances::default();
-        stepper.step(c, pos, state, &mut out, &mut Vec::new());
+        design
+            .stepper()
+            .step(design.chromosome(), pos, state, &mut out, &mut Vec::new());
         out.0
             .first()
             .map_or_else(|| state.scope().instance(), |i| i.transform)
@@ -345,7 +342,7 @@ impl Transformation {
                         second,
                         pos: *pos,
                         about: growth_point(pivot, &first, parent_centre),
-                        state: state.with_scope(state.scope()),
+                        state: state.clone_box(),
                         fade,
                         node: *node,
                     });
@@ -370,11 +367,7 @@ impl Transformation {
         Placed {
             shape: self.shape_of(second, x.shape),
             transform: scaled_about(&x.transform, about, fade),
-            source: if second {
-                Source::B(x.node)
-            } else {
-                Source::A(x.node)
-            },
+            source: Source::one(second, x.node),
         }
     }
 }

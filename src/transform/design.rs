@@ -16,6 +16,7 @@ use super::blend::Blend;
 pub(crate) trait StateObj: Send + Sync {
     fn scope(&self) -> Scope;
     fn with_scope(&self, scope: Scope) -> Box<dyn StateObj>;
+    fn clone_box(&self) -> Box<dyn StateObj>;
     fn as_any(&self) -> &dyn Any;
 }
 
@@ -26,6 +27,10 @@ impl<T: Blend> StateObj for T {
 
     fn with_scope(&self, scope: Scope) -> Box<dyn StateObj> {
         Box::new(Blend::with_scope(self, scope))
+    }
+
+    fn clone_box(&self) -> Box<dyn StateObj> {
+        Box::new(self.clone())
     }
 
     fn as_any(&self) -> &dyn Any {

@@ -146,6 +146,13 @@ pub enum Source {
     Both(NodeId, NodeId),
 }
 
+impl Source {
+    /// From one design alone: the second if `second`, else the first.
+    pub(crate) fn one(second: bool, node: NodeId) -> Self {
+        if second { Self::B(node) } else { Self::A(node) }
+    }
+}
+
 /// One shape of a transformed design.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Placed {
