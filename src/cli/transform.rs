@@ -14,7 +14,7 @@ use crate::transform::sequence::{
     FrameFacts, Occupancy, Painter, Smoothness, change, contact_sheet, frame_times, instances,
     meshes, visible,
 };
-use crate::transform::{Placed, TransformFile};
+use crate::transform::{Frames, Placed, TransformFile};
 
 /// Frames shown on the contact sheet at most.
 const SHEET_FRAMES: usize = 12;
@@ -38,8 +38,8 @@ pub(super) fn transform(cli: &Cli, args: &TransformArgs) -> Result<(), CliError>
     let file =
         TransformFile::load(&args.file, &cli.registry).map_err(|e| CliError::msg(e.to_string()))?;
     let count = args.frames.unwrap_or(file.frames.count);
-    if !(2..=10_000).contains(&count) {
-        return Err(CliError::msg("--frames: between 2 and 10000 frames"));
+    if let Some(problem) = Frames::count_problem(count) {
+        return Err(CliError::msg(format!("--frames: {problem}")));
     }
     let times = match args.at {
         Some(t) if (0.0..=1.0).contains(&t) => vec![t],
@@ -59,6 +59,9 @@ pub(super) fn transform(cli: &Cli, args: &TransformArgs) -> Result<(), CliError>
     let mut painter = Painter::new(t, viewpoint, file.frames.size)?;
     let mut occupancy = Occupancy::new(t, 96)?;
     let mut previous: Option<Vec<u64>> = None;
+    let obj_meshes = if args.obj { Some(meshes(t)?) } else { None };
+    // Every `every`-th frame (and the last) is kept for the sheet, the GIF and the page.
+    let every = times.len().div_ceil(SHOWN_FRAMES);
     let stage = Stage::new(&args.out)?;
     let out = stage.path();
     std::fs::create_dir_all(out.join("frames")).map_err(|e| ExperimentError::write(out, e))?;
@@ -92,11 +95,10 @@ pub(super) fn transform(cli: &Cli, args: &TransformArgs) -> Result<(), CliError>
         let change = previous.as_ref().map_or(0.0, |p| change(p, &cells));
         previous = Some(cells);
         write_png_rgba(&out.join(format!("frames/frame_{k:03}.png")), &picture)?;
-        if args.obj {
-            let meshes = meshes(t)?;
+        if let Some(meshes) = &obj_meshes {
             let path = out.join(format!("frames/frame_{k:03}.obj"));
             let mut bytes = Vec::new();
-            crate::score::write_obj(&mut bytes, &instances(&shapes), &meshes)
+            crate::score::write_obj(&mut bytes, &instances(&shapes), meshes)
                 .map_err(|e| ExperimentError::write(&path, e))?;
             crate::score::write_atomically(&path, &bytes)?;
         }
@@ -107,7 +109,6 @@ pub(super) fn transform(cli: &Cli, args: &TransformArgs) -> Result<(), CliError>
             derive_ms,
             change,
         });
-        let every = times.len().div_ceil(SHOWN_FRAMES);
         if k % every == 0 || k + 1 == times.len() {
             pictures.push(if picture.width() > SHOWN_SIZE {
                 image::imageops::resize(

@@ -130,6 +130,23 @@ pub struct Frames {
     pub elevation: f64,
 }
 
+impl Frames {
+    /// How many frames a sequence may have.
+    pub const COUNTS: std::ops::RangeInclusive<usize> = 2..=10_000;
+
+    /// Why `count` frames are not a sequence, if they are not.
+    #[must_use]
+    pub fn count_problem(count: usize) -> Option<String> {
+        (!Self::COUNTS.contains(&count)).then(|| {
+            format!(
+                "between {} and {} frames",
+                Self::COUNTS.start(),
+                Self::COUNTS.end()
+            )
+        })
+    }
+}
+
 impl Default for Frames {
     fn default() -> Self {
         Self {
@@ -237,8 +254,8 @@ impl TransformFile {
                 .map_err(|err| src.error(e.span(), format!("`timeline`: {err}")))?;
         }
         let f = file.frames;
-        if f.count < 2 || f.count > 10_000 {
-            return Err(src.error(0..0, "`frames.count`: between 2 and 10000 frames"));
+        if let Some(problem) = Frames::count_problem(f.count) {
+            return Err(src.error(0..0, format!("`frames.count`: {problem}")));
         }
         if !(16..=4096).contains(&f.size) {
             return Err(src.error(0..0, "`frames.size`: between 16 and 4096 pixels"));

@@ -51,6 +51,18 @@ impl Timeline {
         t >= self.threshold
     }
 
+    /// [`problem`](Self::problem) as the error of the match of `a` with `b`.
+    fn check(&self, a: &str, b: &str) -> Result<(), TransformError> {
+        match self.problem() {
+            None => Ok(()),
+            Some(reason) => Err(TransformError::Timeline {
+                a: a.to_string(),
+                b: b.to_string(),
+                reason,
+            }),
+        }
+    }
+
     /// Why the times are not usable, if they are not: each in `[0, 1]`, `start ≤ end`.
     #[must_use]
     pub fn problem(&self) -> Option<&'static str> {
@@ -133,14 +145,20 @@ impl Matches {
     }
 
     /// Adds the match of node `a` (first generator) with node `b` (second).
-    pub fn add(&mut self, ga: &Graph, gb: &Graph, a: &str, b: &str) -> Result<(), TransformError> {
+    pub(crate) fn add(
+        &mut self,
+        ga: &Graph,
+        gb: &Graph,
+        a: &str,
+        b: &str,
+    ) -> Result<(), TransformError> {
         let (i, j) = (node(ga, a, "first")?, node(gb, b, "second")?);
         self.insert(i, j);
         Ok(())
     }
 
     /// Removes the match of node `a` with node `b` (the start nodes' match stays).
-    pub fn remove(
+    pub(crate) fn remove(
         &mut self,
         ga: &Graph,
         gb: &Graph,
@@ -164,7 +182,7 @@ impl Matches {
     }
 
     /// Sets the timeline of the match of `a` with `b`.
-    pub fn set_timeline(
+    pub(crate) fn set_timeline(
         &mut self,
         ga: &Graph,
         gb: &Graph,
@@ -172,13 +190,7 @@ impl Matches {
         b: &str,
         timeline: Timeline,
     ) -> Result<(), TransformError> {
-        if let Some(reason) = timeline.problem() {
-            return Err(TransformError::Timeline {
-                a: a.to_string(),
-                b: b.to_string(),
-                reason,
-            });
-        }
+        timeline.check(a, b)?;
         let (i, j) = (node(ga, a, "first")?, node(gb, b, "second")?);
         match self.index.get(&(i, j)) {
             Some(&k) => {
@@ -193,8 +205,10 @@ impl Matches {
     }
 
     /// Sets every match's timeline.
-    pub fn set_all_timelines(&mut self, timeline: Timeline) {
+    pub(crate) fn set_all_timelines(&mut self, timeline: Timeline) -> Result<(), TransformError> {
+        timeline.check("*", "*")?;
         self.timelines.fill(timeline);
+        Ok(())
     }
 
     /// The matched node pairs, the start nodes' first.

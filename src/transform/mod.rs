@@ -274,15 +274,8 @@ impl Transformation {
 
     /// Sets the timeline of every match.
     pub fn set_all_timelines(&mut self, timeline: Timeline) -> Result<(), TransformError> {
-        if let Some(reason) = timeline.problem() {
-            return Err(TransformError::Timeline {
-                a: "*".into(),
-                b: "*".into(),
-                reason,
-            });
-        }
+        self.matches.set_all_timelines(timeline)?;
         self.pairings = std::sync::OnceLock::new();
-        self.matches.set_all_timelines(timeline);
         Ok(())
     }
 
