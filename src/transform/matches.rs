@@ -144,6 +144,15 @@ impl Matches {
         }
     }
 
+    /// Which match the first generator's node `a` and the second's `b` form.
+    fn named(&self, ga: &Graph, gb: &Graph, a: &str, b: &str) -> Result<usize, TransformError> {
+        let (i, j) = (node(ga, a, "first")?, node(gb, b, "second")?);
+        self.of(i, j).ok_or_else(|| TransformError::NotAMatch {
+            a: a.to_string(),
+            b: b.to_string(),
+        })
+    }
+
     /// Adds the match of node `a` (first generator) with node `b` (second).
     pub(crate) fn add(
         &mut self,
@@ -165,16 +174,10 @@ impl Matches {
         a: &str,
         b: &str,
     ) -> Result<(), TransformError> {
-        let (i, j) = (node(ga, a, "first")?, node(gb, b, "second")?);
-        if (i, j) == (ga.start(), gb.start()) {
+        let k = self.named(ga, gb, a, b)?;
+        if k == 0 {
             return Err(TransformError::StartMatch);
         }
-        let Some(k) = self.index.get(&(i, j)).copied() else {
-            return Err(TransformError::NotAMatch {
-                a: a.to_string(),
-                b: b.to_string(),
-            });
-        };
         self.pairs.remove(k);
         self.timelines.remove(k);
         self.rebuild();
@@ -191,17 +194,9 @@ impl Matches {
         timeline: Timeline,
     ) -> Result<(), TransformError> {
         timeline.check(a, b)?;
-        let (i, j) = (node(ga, a, "first")?, node(gb, b, "second")?);
-        match self.index.get(&(i, j)) {
-            Some(&k) => {
-                self.timelines[k] = timeline;
-                Ok(())
-            }
-            None => Err(TransformError::NotAMatch {
-                a: a.to_string(),
-                b: b.to_string(),
-            }),
-        }
+        let k = self.named(ga, gb, a, b)?;
+        self.timelines[k] = timeline;
+        Ok(())
     }
 
     /// Sets every match's timeline.
