@@ -124,6 +124,11 @@ pub mod __private {
         fn is_expressed(&self, slot: SlotRef<'_>) -> bool {
             self.words[self.pos + HEADER_WORDS + slot.index] != 0
         }
+
+        #[inline(always)]
+        fn split_scope(&mut self, axis: crate::graph::Axis, scope: &crate::express::Scope) {
+            self.sink.split(node_of(self.words[self.pos]), axis, scope);
+        }
     }
 }
 

@@ -171,6 +171,7 @@ impl SplitGraph {
                             .collect(),
                     ),
                     emits: old.emits,
+                    split: old.split,
                 }
             })
             .collect();

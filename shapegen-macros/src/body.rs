@@ -1,5 +1,6 @@
 //! A node body's pseudo-macros: `emit!(shape, transform)`,
-//! `child!(slot, state)` and `expressed!(slot)`.
+//! `child!(slot, state)`, `expressed!(slot)` and
+//! `split!(state, axis, [slot: size, ..])`.
 //!
 //! The body is ordinary Rust. [`calls`] finds the pseudo-macros for the
 //! checks; after the checks pass, [`rewrite`] replaces each by a call on the
@@ -23,6 +24,10 @@ pub enum CallKind {
     Emit,
     Child,
     Expressed,
+    /// A `split!`: `id` is its axis, `value` the state split.
+    Split,
+    /// One named part of a `split!`: checked as a slot, as `child!` is.
+    Part,
 }
 
 impl CallKind {
@@ -31,6 +36,7 @@ impl CallKind {
             "emit" => Self::Emit,
             "child" => Self::Child,
             "expressed" => Self::Expressed,
+            "split" => Self::Split,
             _ => return None,
         })
     }
@@ -40,6 +46,8 @@ impl CallKind {
             Self::Emit => "emit!(shape, transform)",
             Self::Child => "child!(slot, state)",
             Self::Expressed => "expressed!(slot)",
+            Self::Split => "split!(state, axis, [slot: size, ..])",
+            Self::Part => "slot: size",
         }
     }
 }
@@ -73,6 +81,114 @@ fn call_at(tokens: &[TokenTree], i: usize) -> Option<(CallKind, &Group)> {
         return CallKind::from_ident(name).map(|k| (k, args));
     }
     None
+}
+
+/// How long one part of a `split!` is, as written.
+pub enum PartSize {
+    /// `repeat(len)`.
+    Repeat(Expr),
+    /// `rel(len)`.
+    Relative(Expr),
+    /// `abs(len)` or any other expression.
+    Absolute(Expr),
+}
+
+/// One entry of a `split!`: the slot it schedules (`None` for `_`, a gap).
+pub struct Part {
+    pub slot: Option<(Ident, Option<Expr>)>,
+    pub size: PartSize,
+}
+
+/// A parsed `split!(state, axis, [entries])`.
+pub struct SplitCall {
+    pub state: Expr,
+    pub axis: Ident,
+    pub parts: Vec<Part>,
+}
+
+/// The axes a split may name, as written and as `Axis` variants.
+pub const AXES: [(&str, &str); 3] = [("x", "X"), ("y", "Y"), ("z", "Z")];
+
+impl PartSize {
+    fn parse(e: Expr) -> Self {
+        if let Expr::Call(c) = &e
+            && let Expr::Path(p) = &*c.func
+            && c.args.len() == 1
+            && let Some(f) = p.path.get_ident()
+        {
+            let arg = c.args[0].clone();
+            match f.to_string().as_str() {
+                "repeat" => return Self::Repeat(arg),
+                "rel" => return Self::Relative(arg),
+                "abs" => return Self::Absolute(arg),
+                _ => {}
+            }
+        }
+        Self::Absolute(e)
+    }
+}
+
+/// Parses a `split!`'s arguments.
+pub fn parse_split(args: &Group) -> syn::Result<SplitCall> {
+    (|input: ParseStream| {
+        let state: Expr = input.parse()?;
+        input.parse::<Token![,]>()?;
+        let axis: Ident = input.parse()?;
+        if !AXES.iter().any(|(a, _)| axis == a) {
+            return Err(syn::Error::new(
+                axis.span(),
+                format!("unknown axis `{axis}`: a split cuts along `x`, `y` or `z`"),
+            ));
+        }
+        input.parse::<Token![,]>()?;
+        let inner;
+        syn::bracketed!(inner in input);
+        let mut parts = Vec::new();
+        while !inner.is_empty() {
+            let slot = if inner.peek(Token![_]) {
+                inner.parse::<Token![_]>()?;
+                None
+            } else {
+                let id: Ident = inner.parse()?;
+                let index = if inner.peek(syn::token::Bracket) {
+                    let i;
+                    syn::bracketed!(i in inner);
+                    Some(i.parse::<Expr>()?)
+                } else {
+                    None
+                };
+                Some((id, index))
+            };
+            inner.parse::<Token![:]>()?;
+            let size = PartSize::parse(inner.parse()?);
+            parts.push(Part { slot, size });
+            if inner.is_empty() {
+                break;
+            }
+            inner.parse::<Token![,]>()?;
+        }
+        input.parse::<Option<Token![,]>>()?;
+        Ok(SplitCall { state, axis, parts })
+    })
+    .parse2(args.stream())
+    .map_err(|e| {
+        syn::Error::new(
+            e.span(),
+            format!(
+                "expected `{}` (sizes: a length, `rel(len)` or `repeat(len)`; `_` for a gap): {e}",
+                CallKind::Split.usage()
+            ),
+        )
+    })
+}
+
+/// The axis variant (`X`, `Y`, `Z`) of the body's `split!`, if it has one.
+pub fn split_axis(body: &TokenStream) -> Option<Ident> {
+    let mut found = Vec::new();
+    collect(&mut |_| {}, body, &mut found);
+    let c = found.iter().find(|c| c.kind == CallKind::Split)?;
+    let (_, variant) = AXES.iter().find(|(a, _)| c.id == a)?;
+    Some(Ident::new(variant, c.id.span()))
 }
 
 /// Parses one call's arguments.
@@ -142,6 +258,35 @@ fn collect(report: &mut dyn FnMut(syn::Error), body: &TokenStream, found: &mut V
     let mut i = 0;
     while i < tokens.len() {
         if let Some((kind, args)) = call_at(&tokens, i) {
+            if kind == CallKind::Split {
+                match parse_split(args) {
+                    Ok(c) => {
+                        let state = &c.state;
+                        collect(report, &quote!(#state), found);
+                        for p in &c.parts {
+                            if let Some((id, index)) = &p.slot {
+                                found.push(Call {
+                                    kind: CallKind::Part,
+                                    id: id.clone(),
+                                    index: index.clone(),
+                                    value: None,
+                                    span: id.span(),
+                                });
+                            }
+                        }
+                        found.push(Call {
+                            kind,
+                            id: c.axis,
+                            index: None,
+                            value: Some(c.state),
+                            span: args.span(),
+                        });
+                    }
+                    Err(e) => report(e),
+                }
+                i += 3;
+                continue;
+            }
             match parse_call(kind, args) {
                 Ok(c) => {
                     // Arguments may hold calls too (`child!(a, f(expressed!(b)))`).
@@ -184,9 +329,15 @@ pub fn rewrite(scope: &Scope<'_>, body: TokenStream) -> TokenStream {
     let mut i = 0;
     while i < tokens.len() {
         if let Some((kind, args)) = call_at(&tokens, i) {
-            let call = parse_call(kind, args)
-                .ok()
-                .and_then(|c| expand_call(scope, c));
+            let call = if kind == CallKind::Split {
+                parse_split(args)
+                    .ok()
+                    .and_then(|c| expand_split(scope, c, args.span()))
+            } else {
+                parse_call(kind, args)
+                    .ok()
+                    .and_then(|c| expand_call(scope, c))
+            };
             out.extend(call.unwrap_or_else(|| quote!(::core::unreachable!())));
             i += 3;
             continue;
@@ -202,6 +353,66 @@ pub fn rewrite(scope: &Scope<'_>, body: TokenStream) -> TokenStream {
         i += 1;
     }
     out.into_iter().collect()
+}
+
+/// A `split!` as a loop over the scope's parts, each entry's part
+/// scheduling its slot as `child!` would (gaps schedule nothing).
+fn expand_split(scope: &Scope<'_>, c: SplitCall, span: Span) -> Option<TokenStream> {
+    let krate = scope.krate;
+    let (_, variant) = AXES.iter().find(|(a, _)| c.axis == a)?;
+    let variant = Ident::new(variant, c.axis.span());
+    let (entry, part, parent) = (
+        hidden("__sg_entry"),
+        hidden("__sg_part"),
+        hidden("__sg_parent"),
+    );
+    let mut sizes = Vec::new();
+    let mut arms = Vec::new();
+    for (k, p) in c.parts.into_iter().enumerate() {
+        let (ctor, len) = match p.size {
+            PartSize::Repeat(e) => (quote!(Repeat), e),
+            PartSize::Relative(e) => (quote!(Relative), e),
+            PartSize::Absolute(e) => (quote!(Absolute), e),
+        };
+        let len = rewrite(scope, quote!(#len));
+        let ty = respan(quote!(f32), len.span());
+        let var = hidden("__sg_len");
+        sizes.push(quote_spanned!(len.span()=> {
+            let #var: #ty = #len;
+            #krate::express::SplitSize::#ctor(#var)
+        }));
+        if let Some((id, index)) = p.slot {
+            let call = Call {
+                kind: CallKind::Child,
+                span: id.span(),
+                id,
+                index,
+                value: Some(syn::parse_quote!(#part)),
+            };
+            let child = expand_call(scope, call)?;
+            arms.push(quote!(#k => { #child; }));
+        }
+    }
+    let state = rewrite(scope, {
+        let s = &c.state;
+        quote!(#s)
+    });
+    let state_ty = respan(scope.state_ty.clone(), state.span());
+    let out = scope.out;
+    Some(quote_spanned!(span=> {
+        let #parent: #state_ty = #state;
+        #krate::express::NodeOut::split_scope(#out, #krate::graph::Axis::#variant, &#parent);
+        for (#entry, #part) in #krate::express::Scope::split(
+            &#parent,
+            #krate::graph::Axis::#variant,
+            &[#(#sizes),*],
+        ) {
+            match #entry {
+                #(#arms)*
+                _ => {}
+            }
+        }
+    }))
 }
 
 fn expand_call(scope: &Scope<'_>, c: Call) -> Option<TokenStream> {

@@ -37,6 +37,7 @@ pub fn generator(cx: &Ctxt, g: &Generator) {
         let calls = body::calls(cx, &n.body);
         check_calls(cx, g, n, &calls);
         check_emits(cx, n, &calls);
+        check_split(cx, &calls);
         paths::check(cx, &n.body);
     }
 }
@@ -289,6 +290,9 @@ fn check_calls(cx: &Ctxt, g: &Generator, n: &Node, calls: &[Call]) {
     let slots: Vec<String> = n.slots.iter().map(|s| s.name.to_string()).collect();
     for c in calls {
         let id = &c.id;
+        if c.kind == CallKind::Split {
+            continue;
+        }
         if c.kind == CallKind::Emit {
             if !g.shapes.iter().any(|s| s == id) {
                 cx.error(
@@ -335,6 +339,31 @@ fn check_calls(cx: &Ctxt, g: &Generator, n: &Node, calls: &[Call]) {
             }
             (None, None) => {}
         }
+    }
+}
+
+/// A split node's children are its split's parts: one `split!` per body,
+/// and no `child!` beside it (design transformations read a split node's
+/// children as its parts, in order).
+fn check_split(cx: &Ctxt, calls: &[Call]) {
+    let mut splits = calls.iter().filter(|c| c.kind == CallKind::Split);
+    if splits.next().is_none() {
+        return;
+    }
+    for extra in splits {
+        cx.error(
+            extra.span,
+            "a body has at most one `split!`: it is a split node, whose children are the parts \
+             of its one split",
+        );
+    }
+    for c in calls.iter().filter(|c| c.kind == CallKind::Child) {
+        cx.error(
+            c.span,
+            "`child!` in a body with `split!`: a split node schedules its children only as \
+             parts of its split; give this child its own part, or move the split into a child \
+             node",
+        );
     }
 }
 

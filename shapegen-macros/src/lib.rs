@@ -146,6 +146,16 @@ mod paths;
 ///     mesh), `child!(slot, state)` (schedules the child if it is expressed;
 ///     `child!(name[i], state)` for arrays) and `expressed!(slot)` (whether the
 ///     child exists).
+///   - a split rule (CGA's `split`, for a `Scope` state):
+///     `split!(scope, y, [ground: 4.0, floor: repeat(3.5), _: rel(1.0), ledge: 0.5])`
+///     cuts the scope along `x`, `y` or `z` into parts that partition it, in
+///     order: a length is absolute (`abs(len)` also), `rel(len)` stretches
+///     to share what absolute parts leave, `repeat(len)` makes as many copies
+///     of about `len` as fill it (see `Scope::split`). Each part schedules its
+///     slot as `child!` would, so a repeated part expresses one subtree once
+///     per copy; `_` leaves a gap. A body has at most one `split!` and then
+///     no `child!`: the node is a *split node* (`NodeSpec::split`), whose
+///     parts design transformations merge as strings.
 /// - `node A, B, C [emits] { .. }`: a *family*, one graph node per member (ids
 ///   in the order written) sharing the sections and the body. Any parameter
 ///   distribution, slot probability, constant or tag may be given per member as
@@ -174,7 +184,8 @@ mod paths;
 /// whole numbers, a missing or unknown start node, unknown shapes or slots in
 /// `emit!`/`child!`, a constant slot index out of range, a slot scheduled
 /// twice on one path of a body, wrong distributions for a parameter type,
-/// `each[..]` with a value count other than the family's size. After an
+/// `each[..]` with a value count other than the family's size, a `split!`
+/// along an unknown axis, a second `split!` or a `child!` beside one. After an
 /// error the type and its `Generator` implementation are still emitted, so
 /// code using the generator reports nothing more. Type errors in a body,
 /// including a `child!` state or `emit!` transform of the wrong type, point

@@ -41,3 +41,12 @@ mod tags {
         main();
     }
 }
+
+mod splits {
+    include!("pass/splits.rs");
+
+    #[test]
+    fn runs() {
+        main();
+    }
+}

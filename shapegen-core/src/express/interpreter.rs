@@ -5,7 +5,9 @@ use std::borrow::Cow;
 use glam::{Affine3A, Vec2, Vec3};
 
 use crate::genome::{Chromosome, Gene};
-use crate::graph::{Graph, ParamKind};
+use crate::graph::{Axis, Graph, ParamKind};
+
+use super::{Scope, SplitSize};
 
 use super::generator::Generator;
 use super::node_out::{NodeOut, SlotRef};
@@ -327,6 +329,15 @@ impl<St> RuleOutput<'_, St> {
         );
     }
 
+    /// Splits `scope` along `axis` into the parts of `sizes` (see
+    /// [`Scope::split`]) and tells the sink, as `split!` does: a rule of a
+    /// node built with [`NodeBuilder::split`](crate::graph::NodeBuilder::split)
+    /// schedules its children as these parts, in order.
+    pub fn split(&mut self, scope: &Scope, axis: Axis, sizes: &[SplitSize]) -> Vec<(usize, Scope)> {
+        self.split_scope(axis, scope);
+        scope.split(axis, sizes)
+    }
+
     /// Whether the child in slot `slot` (by name) is expressed. Panics on an unknown slot.
     #[must_use]
     pub fn has_child(&self, slot: &str) -> bool {
@@ -368,6 +379,10 @@ impl<St> NodeOut<St> for RuleOutput<'_, St> {
 
     fn is_expressed(&self, slot: SlotRef<'_>) -> bool {
         self.gene.child(self.slot_by_name(slot)).is_some()
+    }
+
+    fn split_scope(&mut self, axis: Axis, scope: &Scope) {
+        self.sink.split(self.gene.node(), axis, scope);
     }
 }
 

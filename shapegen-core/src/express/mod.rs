@@ -12,10 +12,14 @@ mod node_out;
 mod pending;
 mod scope;
 mod sink;
+mod split;
 
+/// The axis a split cuts along (see [`Scope::split`]).
+pub use crate::graph::Axis;
 pub use generator::Generator;
 pub use interpreter::{ExpressError, ExpressErrors, Interpreter, Rule, RuleInput, RuleOutput};
 pub use node_out::{NodeOut, SlotRef};
 pub use pending::Pending;
 pub use scope::Scope;
 pub use sink::{CountingSink, Instance, Instances, ModelSink, ShapeId};
+pub use split::{MAX_REPEATS, SplitPart, SplitSize, split_lengths};

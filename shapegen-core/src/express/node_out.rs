@@ -2,7 +2,9 @@
 
 use glam::Affine3A;
 
+use super::Scope;
 use super::sink::ShapeId;
+use crate::graph::Axis;
 
 /// A child slot as named in a node body: its index in the node, its declared
 /// name, and for a slot array (`lots[100]`) the element.
@@ -30,4 +32,9 @@ pub trait NodeOut<St> {
 
     /// Whether the child in `slot` is expressed.
     fn is_expressed(&self, slot: SlotRef<'_>) -> bool;
+
+    /// Announces that the node splits `scope` along `axis`: the children
+    /// scheduled next are the parts (`split!` calls it; see
+    /// [`ModelSink::split`](super::ModelSink::split)).
+    fn split_scope(&mut self, axis: Axis, scope: &Scope);
 }

@@ -2,7 +2,8 @@
 
 use glam::Affine3A;
 
-use crate::graph::NodeId;
+use super::Scope;
+use crate::graph::{Axis, NodeId};
 
 /// Index of a shape (mesh) in a generator's [`shapes`](super::Generator::shapes) list.
 pub type ShapeId = u16;
@@ -22,6 +23,15 @@ pub trait ModelSink {
     fn emit_from(&mut self, node: NodeId, shape: ShapeId, transform: &Affine3A) {
         let _ = node;
         self.emit(shape, transform);
+    }
+
+    /// A gene of node `node` splits `scope` along `axis` (a split rule,
+    /// `split!`): the children it schedules next are the parts, in order.
+    /// Ignored by default; design transformations listen, to merge two
+    /// split rules as strings.
+    #[inline(always)]
+    fn split(&mut self, node: NodeId, axis: Axis, scope: &Scope) {
+        let _ = (node, axis, scope);
     }
 }
 

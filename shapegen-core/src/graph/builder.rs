@@ -5,7 +5,7 @@ use std::borrow::Cow;
 use super::compiled::Graph;
 use super::dist::{Dist, IntDist};
 use super::error::GraphErrors;
-use super::spec::{GraphSpec, Limits, NodeSpec, ParamDist, ParamSpec, SlotSpec};
+use super::spec::{Axis, GraphSpec, Limits, NodeSpec, ParamDist, ParamSpec, SlotSpec};
 
 /// Builds a [`GraphSpec`] (and a [`Graph`]) at run time.
 ///
@@ -70,6 +70,7 @@ impl GraphBuilder {
                 slots: Cow::Borrowed(&[]),
                 emits: false,
                 tags: Cow::Borrowed(&[]),
+                split: None,
             },
             params: Vec::new(),
             slots: Vec::new(),
@@ -108,6 +109,14 @@ impl NodeBuilder {
     /// tag is reported by [`GraphBuilder::build`].
     pub fn tag(mut self, tag: impl Into<String>) -> Self {
         self.tags.push(Cow::Owned(tag.into()));
+        self
+    }
+
+    /// Marks the node as a split node along `axis`: its rule schedules its
+    /// children as the parts of [`Scope::split`](crate::express::Scope::split)
+    /// (see [`NodeSpec::split`]).
+    pub fn split(mut self, axis: Axis) -> Self {
+        self.node.split = Some(axis);
         self
     }
 

@@ -16,7 +16,8 @@ pub use compiled::{Edge, EdgeId, Graph, MAX_NODES, MAX_SLOTS, NodeId, NodeLayout
 pub use dist::{Dist, IntDist};
 pub use error::{GraphError, GraphErrors};
 pub use spec::{
-    GraphSpec, Limits, MAX_TAG_LEN, NodeSpec, ParamDist, ParamKind, ParamSpec, SlotSpec, check_tag,
+    Axis, GraphSpec, Limits, MAX_TAG_LEN, NodeSpec, ParamDist, ParamKind, ParamSpec, SlotSpec,
+    check_tag,
 };
 
 #[cfg(test)]

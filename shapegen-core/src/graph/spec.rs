@@ -227,6 +227,33 @@ pub struct NodeSpec {
     /// They play no part in the genome: a graph's fingerprint ignores them.
     #[serde(default, skip_serializing_if = "<[_]>::is_empty")]
     pub tags: Cow<'static, [Cow<'static, str>]>,
+    /// The axis along which the node's body splits its scope into the
+    /// parts it schedules (a CGA split rule, `split!` in `generator!`), if
+    /// it is a split node. Design transformations merge two split nodes'
+    /// parts as strings (thesis §5.4.4). Not part of the genome: a graph's
+    /// fingerprint ignores it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub split: Option<Axis>,
+}
+
+/// One of a scope's three local axes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Axis {
+    /// The local x axis (width).
+    X,
+    /// The local y axis (height).
+    Y,
+    /// The local z axis (depth).
+    Z,
+}
+
+impl Axis {
+    /// The axis's index: x = 0, y = 1, z = 2.
+    #[must_use]
+    pub const fn index(self) -> usize {
+        self as usize
+    }
 }
 
 impl NodeSpec {
@@ -244,6 +271,7 @@ impl NodeSpec {
             slots: Cow::Borrowed(slots),
             emits,
             tags: Cow::Borrowed(&[]),
+            split: None,
         }
     }
 }

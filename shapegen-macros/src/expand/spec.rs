@@ -82,6 +82,10 @@ fn node_spec(krate: &Path, n: &Node, m: usize) -> TokenStream {
     let params = n.params.iter().map(|p| param_spec(krate, p, p.dist.get(m)));
     let slots = n.slots.iter().map(|s| slot_specs(krate, s, m));
     let emits = n.emits;
+    let split = match crate::body::split_axis(&n.body) {
+        Some(axis) => quote!(::core::option::Option::Some(#krate::graph::Axis::#axis)),
+        None => quote!(::core::option::Option::None),
+    };
     let tags = n.tags.iter().map(|t| {
         let word = t.get(m).to_string();
         let word = word.strip_prefix("r#").unwrap_or(&word).to_string();
@@ -98,6 +102,7 @@ fn node_spec(krate: &Path, n: &Node, m: usize) -> TokenStream {
             }),
             emits: #emits,
             tags: Cow::Owned(::std::vec![#(#tags),*]),
+            split: #split,
         }
     }
 }
