@@ -14,8 +14,11 @@
 //! | [`GridCity`] | city volume scene | `cube` |
 //! | [`MonopodialTree`] | thesis Fig. 5.1 (Honda) | `frustum` |
 //! | [`SympodialTree`] | thesis Fig. 5.1 (Aono–Kunii) | `frustum` |
+//! | [`ClassicFacade`] | thesis Fig. A.2 (split rules) | `wall`, `pillar`, `window`, `ledge` |
+//! | [`ModernFacade`] | thesis Fig. A.2 (split rules) | `wall`, `window` |
 
 mod city;
+mod facade;
 mod lsystem;
 mod spaceship;
 mod tree;
@@ -23,13 +26,15 @@ mod tree;
 mod unrolled;
 
 pub use city::{GRID, GridCity, LOT_STEP, SpaceFillingCity, grid_lot};
+pub use facade::{ClassicFacade, ModernFacade};
 pub use lsystem::{MonopodialTree, SympodialTree};
 pub use spaceship::{ShipState, Spaceship};
 pub use tree::{TreeV1, TreeV2};
 
 /// Registers the paper's generators under the names experiment files use:
 /// `spaceship`, `tree_v1`, `tree_v2`, `space_filling_city`, `grid_city`,
-/// and the thesis's tree pair `monopodial_tree`, `sympodial_tree`.
+/// the thesis's tree pair `monopodial_tree`, `sympodial_tree`, and its
+/// façades `classic_facade`, `modern_facade`.
 /// [`Registry::builtin`](crate::registry::Registry::builtin) calls it; a
 /// user's generators register the same way.
 pub fn register(registry: &mut crate::registry::Registry) {
@@ -40,5 +45,7 @@ pub fn register(registry: &mut crate::registry::Registry) {
         .register("space_filling_city", SpaceFillingCity)
         .register("grid_city", GridCity)
         .register("monopodial_tree", MonopodialTree)
-        .register("sympodial_tree", SympodialTree);
+        .register("sympodial_tree", SympodialTree)
+        .register("classic_facade", ClassicFacade)
+        .register("modern_facade", ModernFacade);
 }
