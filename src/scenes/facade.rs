@@ -14,9 +14,9 @@ const DEPTH: f32 = 0.3;
 generator! {
     /// A classical façade (thesis Fig. A.2, left): storeys of about 4.5 m
     /// under a ledge; each storey a split along x into twin pillars at the
-    /// ends, four yellow window tiles and single pillars between them, wall
-    /// between (thesis A.1: `{P, P, Yt, P, Yt, P, Yt, P, Yt, P, P}` without
-    /// walls). The default model has one storey: `{Floor, Ledge}`.
+    /// ends, five yellow window tiles and single pillars between them, wall
+    /// between (thesis A.1: `{P, P, Yt, P, Yt, P, Yt, P, Yt, P, Yt, P, P}`
+    /// without walls). The default model has one storey: `{Floor, Ledge}`.
     pub struct ClassicFacade;
     shapes: [wall, pillar, window, ledge];
     start: Facade;
@@ -24,7 +24,7 @@ generator! {
     node Facade {
         tags { facade }
         params {
-            width: f32 = uniform(10.0, 14.0),
+            width: f32 = uniform(13.0, 17.0),
             height: f32 = uniform(4.0, 10.0),
         }
         slots { floor: Floor = 1.0, ledge: Ledge = 1.0 }
@@ -41,6 +41,7 @@ generator! {
         |scope| {
             split!(scope, x, [
                 pillar: 0.5, pillar: 0.5, wall: rel(0.4),
+                tile: 1.6, wall: rel(0.4), pillar: 0.5, wall: rel(0.4),
                 tile: 1.6, wall: rel(0.4), pillar: 0.5, wall: rel(0.4),
                 tile: 1.6, wall: rel(0.4), pillar: 0.5, wall: rel(0.4),
                 tile: 1.6, wall: rel(0.4), pillar: 0.5, wall: rel(0.4),
@@ -88,7 +89,7 @@ generator! {
 
 generator! {
     /// A modern façade (thesis Fig. A.2, right): storeys of about 3.5 m,
-    /// each a split along x into plain window tiles of about 1.5 m with a
+    /// each a split along x into plain window tiles of about 2 m with a
     /// margin of wall at both ends (thesis A.1: `{Wt, Wt, Wt, Wt, Wt, Wt, Wt}`
     /// without walls). The default model has two storeys: `{Floor, Floor}`.
     pub struct ModernFacade;
@@ -98,7 +99,7 @@ generator! {
     node Facade {
         tags { facade }
         params {
-            width: f32 = uniform(10.0, 14.0),
+            width: f32 = uniform(13.0, 17.0),
             height: f32 = uniform(5.0, 9.0),
         }
         slots { floor: Floor = 1.0 }
@@ -112,7 +113,7 @@ generator! {
     node Floor {
         tags { floor }
         slots { tile: WindowTile = 1.0, wall: Wall = 1.0 }
-        |scope| { split!(scope, x, [wall: rel(0.5), tile: repeat(1.5), wall: rel(0.5)]); }
+        |scope| { split!(scope, x, [wall: rel(0.5), tile: repeat(2.0), wall: rel(0.5)]); }
     }
 
     /// A window tile: wall, a window, wall (a vertical split).
@@ -158,9 +159,9 @@ mod tests {
     #[test]
     fn the_default_facades_have_the_storeys_of_the_thesis() {
         let classic = names(&ClassicFacade);
-        // One storey: twin pillars at both ends and three between, 4 windows, one ledge.
-        assert_eq!(classic.iter().filter(|n| *n == "pillar").count(), 7);
-        assert_eq!(classic.iter().filter(|n| *n == "window").count(), 4);
+        // One storey: twin pillars at both ends and four between, 5 windows, one ledge.
+        assert_eq!(classic.iter().filter(|n| *n == "pillar").count(), 8);
+        assert_eq!(classic.iter().filter(|n| *n == "window").count(), 5);
         assert_eq!(classic.iter().filter(|n| *n == "ledge").count(), 1);
         let modern = names(&ModernFacade);
         // Two storeys of seven windows.

@@ -44,6 +44,7 @@
 mod blend;
 mod coderive;
 mod design;
+pub mod edits;
 mod file;
 mod matches;
 mod pairing;
