@@ -73,11 +73,16 @@ generator! {
         }
     }
 
+    /// A tall window pane in a frame of wall.
     node Window emits {
         tags { window }
-        |mut scope| {
-            scope.size.z *= 0.5;
-            emit!(window, scope.instance());
+        |scope| {
+            emit!(wall, scope.instance());
+            let mut pane = scope;
+            pane.size.x *= 0.8;
+            pane.size.y *= 0.9;
+            pane.size.z *= 1.2;
+            emit!(window, pane.instance());
         }
     }
 
@@ -116,21 +121,23 @@ generator! {
         |scope| { split!(scope, x, [wall: rel(0.5), tile: repeat(2.0), wall: rel(0.5)]); }
     }
 
-    /// A window tile: wall, a window, wall (a vertical split).
+    /// A window tile: wall, a wide window, wall (a vertical split).
     node WindowTile {
         tags { tile }
         slots { window: Window = 1.0, wall: Wall = 1.0 }
-        |scope| {
-            split!(scope, x, [wall: rel(0.15), window: rel(1.0), wall: rel(0.15)]);
-        }
+        |scope| { split!(scope, y, [wall: rel(0.5), window: 2.0, wall: rel(0.6)]); }
     }
 
+    /// A window pane in a frame of wall.
     node Window emits {
         tags { window }
-        |mut scope| {
-            scope.size.y *= 0.7;
-            scope.size.z *= 0.5;
-            emit!(window, scope.instance());
+        |scope| {
+            emit!(wall, scope.instance());
+            let mut pane = scope;
+            pane.size.x *= 0.85;
+            pane.size.y *= 0.85;
+            pane.size.z *= 1.2;
+            emit!(window, pane.instance());
         }
     }
 
@@ -166,6 +173,10 @@ mod tests {
         let modern = names(&ModernFacade);
         // Two storeys of seven windows.
         assert_eq!(modern.iter().filter(|n| *n == "window").count(), 14);
+        assert_eq!(
+            modern.iter().filter(|n| *n == "wall").count(),
+            2 * (2 + 7 * 2 + 7)
+        );
     }
 
     #[test]

@@ -78,7 +78,7 @@ fn local_frame(scope: &crate::express::Scope) -> Affine3A {
 }
 
 /// A shape of the co-derivation tree still to derive.
-enum Work {
+pub(super) enum Work {
     /// A matched shape: derived by both designs from one blended scope.
     Pair {
         a: u32,
@@ -187,7 +187,7 @@ impl Transformation {
     }
 
     /// The first design, or the second.
-    fn design(&self, second: bool) -> &super::Design {
+    pub(super) fn design(&self, second: bool) -> &super::Design {
         if second { &self.b } else { &self.a }
     }
 
@@ -264,6 +264,31 @@ impl Transformation {
         // Boxes are compared in the frame of the shape being derived, in
         // units of its size: what its rules place relative to it moves
         // little as the shape itself is blended, so the pairing holds over t.
+        let mut split_terminals = [Instances::default(), Instances::default()];
+        if self.split_step(w, (pa, pb), (sa, sb), queue, &mut split_terminals) {
+            // A split node's own instances (if it emits any) blend in order.
+            let [ta, tb] = &split_terminals;
+            for (i, x) in ta.0.iter().enumerate() {
+                match tb.0.get(i) {
+                    Some(y) => out.push(Placed {
+                        shape: self.shape_of(switched, if switched { y.shape } else { x.shape }),
+                        transform: blend_instances(&x.transform, &y.transform, w, pivot),
+                        source: Source::Both(x.node, y.node),
+                    }),
+                    None => {
+                        if let Some(fade) = self.fade(false, w, switched) {
+                            out.push(self.single(false, x, x.transform.translation.into(), fade));
+                        }
+                    }
+                }
+            }
+            for y in tb.0.iter().skip(ta.0.len()) {
+                if let Some(fade) = self.fade(true, w, switched) {
+                    out.push(self.single(true, y, y.transform.translation.into(), fade));
+                }
+            }
+            return;
+        }
         let local = local_frame(&sa.scope());
         let parent_centre = sa.scope().origin();
         let side_a = self.derive(false, pa, sa);

@@ -5,9 +5,10 @@ use std::any::Any;
 use std::borrow::Cow;
 use std::sync::Arc;
 
-use crate::express::{Generator, Instance, Instances, Pending, Scope};
+use crate::express::{Generator, Instance, Instances, ModelSink, Pending, Scope, ShapeId};
 use crate::genome::Chromosome;
-use crate::graph::Graph;
+use crate::glam::Affine3A;
+use crate::graph::{Axis, Graph, NodeId};
 
 use super::TransformError;
 use super::blend::Blend;
@@ -46,7 +47,8 @@ pub(crate) trait Stepper: Send + Sync {
     fn shapes(&self) -> &[Cow<'static, str>];
     fn axiom(&self) -> DynState;
     /// Expresses gene `pos` from `state`: instances into `out`, children
-    /// (position, state) onto `children` in schedule order.
+    /// (position, state) onto `children` in schedule order. Returns the
+    /// split the gene made, if it splits (its children are then the parts).
     fn step(
         &self,
         chromosome: &Chromosome,
@@ -54,9 +56,29 @@ pub(crate) trait Stepper: Send + Sync {
         state: &dyn StateObj,
         out: &mut Instances,
         children: &mut Vec<(u32, DynState)>,
-    );
+    ) -> Option<(Axis, Scope)>;
     /// Expresses the whole subtree of gene `pos` from `state` into `out`.
     fn subtree(&self, chromosome: &Chromosome, pos: u32, state: &dyn StateObj, out: &mut Instances);
+}
+
+/// A sink that keeps instances and hears where a gene splits.
+struct Listening<'a> {
+    out: &'a mut Instances,
+    split: Option<(Axis, Scope)>,
+}
+
+impl ModelSink for Listening<'_> {
+    fn emit(&mut self, shape: ShapeId, transform: &Affine3A) {
+        self.out.emit(shape, transform);
+    }
+
+    fn emit_from(&mut self, node: NodeId, shape: ShapeId, transform: &Affine3A) {
+        self.out.emit_from(node, shape, transform);
+    }
+
+    fn split(&mut self, _: NodeId, axis: Axis, scope: &Scope) {
+        self.split = Some((axis, *scope));
+    }
 }
 
 struct Erased<G>(G);
@@ -99,11 +121,13 @@ where
         state: &dyn StateObj,
         out: &mut Instances,
         children: &mut Vec<(u32, DynState)>,
-    ) {
+    ) -> Option<(Axis, Scope)> {
         let mut pending = Pending::new();
+        let mut sink = Listening { out, split: None };
         self.0
-            .express_gene(chromosome, pos, Self::state(state), out, &mut pending);
+            .express_gene(chromosome, pos, Self::state(state), &mut sink, &mut pending);
         children.extend(pending.drain().map(|(p, s)| (p, Box::new(s) as DynState)));
+        sink.split
     }
 
     fn subtree(

@@ -15,6 +15,7 @@
 //! pairing = "munkres"          # or "mutual_nearest"
 //! mode = "grow"                # or "thesis"
 //! pivot = "base"               # or "centre"
+//! spacer = "wall"              # the tag of split rules' spacers (default)
 //!
 //! [matches]
 //! add = [["A", "B"]]           # first generator's node, second's
@@ -98,6 +99,7 @@ struct Blending {
     pairing: PairingMethod,
     mode: Mode,
     pivot: Pivot,
+    spacer: Option<Spanned<String>>,
 }
 
 #[derive(Default, Deserialize)]
@@ -238,6 +240,11 @@ impl TransformFile {
             mode: file.blend.mode,
             pivot: file.blend.pivot,
         });
+        if let Some(spacer) = &file.blend.spacer {
+            t = t
+                .with_spacer(spacer.get_ref())
+                .map_err(|e| src.error(spacer.span(), format!("`blend.spacer`: {e}")))?;
+        }
         for m in &file.matches.add {
             let (x, y) = m.get_ref();
             t.add_match(x, y)

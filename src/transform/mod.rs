@@ -49,6 +49,7 @@ mod file;
 mod matches;
 mod pairing;
 pub mod sequence;
+mod split_merge;
 
 use std::borrow::Cow;
 
@@ -62,6 +63,7 @@ pub use design::Design;
 pub use file::{Frames, TransformFile, TransformFileError};
 pub use matches::{Matches, Timeline};
 pub use pairing::PairingMethod;
+pub use split_merge::DEFAULT_SPACER;
 
 /// What can go wrong setting up a transformation.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -99,6 +101,14 @@ pub enum TransformError {
     /// The start nodes always match.
     #[error("the start nodes always match; their match cannot be removed")]
     StartMatch,
+    /// The spacer tag is not a tag.
+    #[error("the spacer `{tag}` is not a tag: {reason}")]
+    BadSpacer {
+        /// The tag given.
+        tag: String,
+        /// What is wrong.
+        reason: String,
+    },
     /// A timeline's times are unusable.
     #[error("the timeline of `{a}` and `{b}`: {reason}")]
     Timeline {
@@ -184,6 +194,10 @@ pub struct Transformation {
     shape_map_b: Vec<ShapeId>,
     /// Partners, chosen on first use and kept for every t.
     pairings: std::sync::OnceLock<coderive::Pairings>,
+    /// The tag of the nodes split merging leaves out and puts back.
+    spacer: String,
+    /// Split statistics and edit paths, found on first use.
+    splits: split_merge::SplitMemory,
 }
 
 impl Transformation {
@@ -214,14 +228,47 @@ impl Transformation {
             shape_map_a,
             shape_map_b,
             pairings: std::sync::OnceLock::new(),
+            spacer: DEFAULT_SPACER.to_string(),
+            splits: split_merge::SplitMemory::default(),
         }
+    }
+
+    /// The same transformation with the nodes tagged `tag` as the spacers
+    /// of split rules (default [`DEFAULT_SPACER`], `wall`): merging two
+    /// splits leaves them out of the strings and puts them back between
+    /// the parts (thesis §5.4.4).
+    ///
+    /// # Errors
+    /// [`TransformError::BadSpacer`] if `tag` is not a valid tag.
+    pub fn with_spacer(mut self, tag: &str) -> Result<Self, TransformError> {
+        if let Some(reason) = crate::graph::check_tag(tag) {
+            return Err(TransformError::BadSpacer {
+                tag: tag.to_string(),
+                reason: reason.to_string(),
+            });
+        }
+        self.spacer = tag.to_string();
+        self.forget();
+        Ok(self)
+    }
+
+    /// The tag of split rules' spacers.
+    #[must_use]
+    pub fn spacer(&self) -> &str {
+        &self.spacer
+    }
+
+    /// Forgets what was found for the old settings or matches.
+    fn forget(&mut self) {
+        self.pairings = std::sync::OnceLock::new();
+        self.splits = split_merge::SplitMemory::default();
     }
 
     /// The same transformation with other settings.
     #[must_use]
     pub fn with_settings(mut self, settings: Settings) -> Self {
         self.settings = settings;
-        self.pairings = std::sync::OnceLock::new();
+        self.forget();
         self
     }
 
@@ -251,13 +298,13 @@ impl Transformation {
 
     /// Adds the match of the first generator's node `a` with the second's `b`.
     pub fn add_match(&mut self, a: &str, b: &str) -> Result<(), TransformError> {
-        self.pairings = std::sync::OnceLock::new();
+        self.forget();
         self.matches.add(self.a.graph(), self.b.graph(), a, b)
     }
 
     /// Removes the match of `a` with `b`.
     pub fn remove_match(&mut self, a: &str, b: &str) -> Result<(), TransformError> {
-        self.pairings = std::sync::OnceLock::new();
+        self.forget();
         self.matches.remove(self.a.graph(), self.b.graph(), a, b)
     }
 
@@ -268,7 +315,7 @@ impl Transformation {
         b: &str,
         timeline: Timeline,
     ) -> Result<(), TransformError> {
-        self.pairings = std::sync::OnceLock::new();
+        self.forget();
         self.matches
             .set_timeline(self.a.graph(), self.b.graph(), a, b, timeline)
     }
@@ -276,7 +323,7 @@ impl Transformation {
     /// Sets the timeline of every match.
     pub fn set_all_timelines(&mut self, timeline: Timeline) -> Result<(), TransformError> {
         self.matches.set_all_timelines(timeline)?;
-        self.pairings = std::sync::OnceLock::new();
+        self.forget();
         Ok(())
     }
 
