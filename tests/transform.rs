@@ -8,8 +8,8 @@ use shapegen::glam::{Affine3A, Vec3};
 use shapegen::prelude::*;
 use shapegen::rng::stream;
 use shapegen::scenes::{
-    ClassicFacade, GridCity, ModernFacade, MonopodialTree, SpaceFillingCity, Spaceship,
-    SympodialTree, TreeV1, TreeV2,
+    Castle, ClassicFacade, Farm, GridCity, ModernFacade, MonopodialTree, SpaceFillingCity,
+    Spaceship, SympodialTree, TreeV1, TreeV2,
 };
 use shapegen::transform::{
     Blend, Design, Mode, PairingMethod, Pivot, Placed, Settings, Transformation,
@@ -137,6 +137,11 @@ proptest! {
     #[test]
     fn endpoints_are_the_designs_facades(sa: u64, sb: u64, k in 0u8..8, t in 0.0f32..1.0) {
         endpoints_and_validity(design(ClassicFacade, sa), design(ModernFacade, sb), k, t)?;
+    }
+
+    #[test]
+    fn endpoints_are_the_designs_farm_castle(sa: u64, sb: u64, k in 0u8..8, t in 0.0f32..1.0) {
+        endpoints_and_validity(design(Farm, sa), design(Castle, sb), k, t)?;
     }
 
     /// Merged split rules partition the shape they split: the façade's

@@ -290,6 +290,34 @@ impl Mesh {
         Self::frustum(16, 0.5, 0.29)
     }
 
+    /// A gable roof filling the unit box: a triangular prism with its base
+    /// on y = −0.5 and its ridge along x at y = +0.5.
+    #[must_use]
+    pub fn roof() -> Self {
+        let positions = vec![
+            Vec3::new(-0.5, -0.5, -0.5),
+            Vec3::new(0.5, -0.5, -0.5),
+            Vec3::new(-0.5, -0.5, 0.5),
+            Vec3::new(0.5, -0.5, 0.5),
+            Vec3::new(-0.5, 0.5, 0.0),
+            Vec3::new(0.5, 0.5, 0.0),
+        ];
+        let triangles = vec![
+            [0, 1, 2],
+            [1, 3, 2], // base, y = −0.5
+            [0, 4, 1],
+            [1, 4, 5], // slope toward −z
+            [2, 3, 4],
+            [3, 5, 4], // slope toward +z
+            [0, 2, 4], // gable, x = −0.5
+            [1, 5, 3], // gable, x = +0.5
+        ];
+        Self {
+            positions,
+            triangles,
+        }
+    }
+
     /// A simple closed leaf made by shapegen (a flat, pointed blade with a
     /// little thickness), filling the unit box. It stands in for the paper's
     /// `leaf.obj` where no mesh file is given.
@@ -327,13 +355,14 @@ impl Mesh {
         }
     }
 
-    /// The built-in mesh for a shape name: `cube`, `frustum` or `trunk`, `leaf`.
+    /// The built-in mesh for a shape name: `cube`, `frustum` or `trunk`, `leaf`, `roof`.
     #[must_use]
     pub fn builtin(name: &str) -> Option<Self> {
         match name {
             "cube" => Some(Self::unit_cube()),
             "frustum" | "trunk" => Some(Self::trunk()),
             "leaf" => Some(Self::leaf()),
+            "roof" => Some(Self::roof()),
             _ => None,
         }
     }
@@ -573,7 +602,7 @@ mod tests {
 
     #[test]
     fn builtins_fill_the_unit_box_and_face_outward() {
-        for name in ["cube", "frustum", "leaf"] {
+        for name in ["cube", "frustum", "leaf", "roof"] {
             let m = Mesh::builtin(name).unwrap();
             let (lo, hi) = m.bounds();
             assert!(
@@ -583,6 +612,7 @@ mod tests {
             assert!(m.volume() > 0.0, "{name} is inside out");
         }
         assert!((Mesh::unit_cube().volume() - 1.0).abs() < 1e-9);
+        assert!((Mesh::roof().volume() - 0.5).abs() < 1e-9);
         // A 16-sided frustum's volume is close to the cone frustum's π h (R² + R r + r²) / 3.
         let (r0, r1) = (0.5f64, 0.29f64);
         let cone = std::f64::consts::PI * (r0 * r0 + r0 * r1 + r1 * r1) / 3.0;

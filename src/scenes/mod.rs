@@ -16,9 +16,12 @@
 //! | [`SympodialTree`] | thesis Fig. 5.1 (Aono–Kunii) | `frustum` |
 //! | [`ClassicFacade`] | thesis Fig. A.2 (split rules) | `wall`, `pillar`, `window`, `ledge` |
 //! | [`ModernFacade`] | thesis Fig. A.2 (split rules) | `wall`, `window` |
+//! | [`Farm`] | thesis Fig. 5.10 | `cube`, `roof`, `frustum`, `window` |
+//! | [`Castle`] | thesis Fig. 5.10 | `cube`, `roof`, `frustum`, `window` |
 
 mod city;
 mod facade;
+mod farm;
 mod lsystem;
 mod spaceship;
 mod tree;
@@ -27,14 +30,15 @@ mod unrolled;
 
 pub use city::{GRID, GridCity, LOT_STEP, SpaceFillingCity, grid_lot};
 pub use facade::{ClassicFacade, ModernFacade};
+pub use farm::{Castle, Farm};
 pub use lsystem::{MonopodialTree, SympodialTree};
 pub use spaceship::{ShipState, Spaceship};
 pub use tree::{TreeV1, TreeV2};
 
 /// Registers the paper's generators under the names experiment files use:
 /// `spaceship`, `tree_v1`, `tree_v2`, `space_filling_city`, `grid_city`,
-/// the thesis's tree pair `monopodial_tree`, `sympodial_tree`, and its
-/// façades `classic_facade`, `modern_facade`.
+/// the thesis's tree pair `monopodial_tree`, `sympodial_tree`, its
+/// façades `classic_facade`, `modern_facade`, and its `farm` and `castle`.
 /// [`Registry::builtin`](crate::registry::Registry::builtin) calls it; a
 /// user's generators register the same way.
 pub fn register(registry: &mut crate::registry::Registry) {
@@ -47,5 +51,7 @@ pub fn register(registry: &mut crate::registry::Registry) {
         .register("monopodial_tree", MonopodialTree)
         .register("sympodial_tree", SympodialTree)
         .register("classic_facade", ClassicFacade)
-        .register("modern_facade", ModernFacade);
+        .register("modern_facade", ModernFacade)
+        .register("farm", Farm)
+        .register("castle", Castle);
 }

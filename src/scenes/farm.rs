@@ -1,0 +1,241 @@
+//! A farm and a castle after Lienhard's thesis, Fig. 5.10: six mass-model
+//! parts (two house parts, two sheds, two silos) against eight (four
+//! towers, two walls, a gate and a main hall). House parts, sheds, halls,
+//! walls and the gate carry the tag `mass`, silos and towers `tower`, so
+//! the thesis's matches hold: *Shed* and *MainBuilding* match *MainHall*,
+//! *CastleWall* and *Gate*; *Silo* matches *Tower*. The fronts of houses
+//! and the hall (tag `front`) are split rules of window bays (`bay`) with
+//! `wall` spacers, merged as strings; the castle walls' merlons are a split.
+
+use crate::express::Scope;
+use crate::generator;
+use crate::glam::Vec3;
+
+/// A scope standing on the ground at `(x, z)`, `size` big.
+fn block(mut s: Scope, x: f32, z: f32, size: Vec3) -> Scope {
+    s.translate(Vec3::new(x, 0.5 * size.y, z));
+    s.set_size(size);
+    s
+}
+
+/// The box above `s` of height `h` (a roof, a parapet).
+fn above(s: Scope, h: f32) -> Scope {
+    let mut r = s.translated(Vec3::new(0.0, 0.5 * (s.size.y + h), 0.0));
+    r.size.y = h;
+    r
+}
+
+generator! {
+    /// A farm (thesis Fig. 5.10, left): a farmhouse and a barn, two sheds
+    /// and two silos around a yard. The farmhouse's front is split into
+    /// window bays.
+    pub struct Farm;
+    shapes: [cube, roof, frustum, window];
+    start: Yard;
+
+    node Yard {
+        tags { site }
+        slots {
+            house[2]: MainBuilding = 1.0,
+            shed[2]: Shed = 1.0,
+            silo[2]: Silo = 1.0,
+        }
+        |scope| {
+            child!(house[0], block(scope, -4.0, 1.0, Vec3::new(11.0, 5.0, 6.0)));
+            child!(house[1], block(scope, 6.5, -5.0, Vec3::new(8.0, 6.5, 7.0)));
+            child!(shed[0], block(scope, -8.0, 9.0, Vec3::new(5.0, 3.0, 4.0)));
+            child!(shed[1], block(scope, 1.5, 9.5, Vec3::new(6.0, 3.0, 4.0)));
+            child!(silo[0], block(scope, 11.5, 4.0, Vec3::new(3.0, 10.0, 3.0)));
+            child!(silo[1], block(scope, 11.5, 9.0, Vec3::new(3.0, 8.0, 3.0)));
+        }
+    }
+
+    /// A house part: a block with a gable roof and a front of window bays.
+    node MainBuilding emits {
+        tags { mass }
+        params { roof: f32 = uniform(2.0, 3.0) }
+        slots { front: Front = 1.0 }
+        |scope| {
+            emit!(cube, scope.instance());
+            emit!(roof, above(scope, roof).instance());
+            let mut front = scope.translated(Vec3::new(0.0, 0.0, 0.5 * scope.size.z + 0.1));
+            front.size.z = 0.2;
+            child!(front, front);
+        }
+    }
+
+    /// A front: bays of about 2.5 m, a window in each.
+    node Front {
+        tags { front }
+        slots { bay: Bay = 1.0 }
+        |scope| { split!(scope, x, [bay: repeat(2.5)]); }
+    }
+
+    node Bay {
+        tags { bay }
+        slots { window: Window = 1.0, wall: Wall = 1.0 }
+        |scope| { split!(scope, y, [wall: rel(0.5), window: 1.5, wall: rel(0.5)]); }
+    }
+
+    node Window emits {
+        tags { window }
+        |mut scope| {
+            scope.size.x *= 0.5;
+            emit!(window, scope.instance());
+        }
+    }
+
+    /// Spacing in a split; shows nothing (the block behind is the wall).
+    node Wall {
+        tags { wall }
+        |scope| { let _ = scope; }
+    }
+
+    node Shed emits {
+        tags { mass }
+        params { roof: f32 = uniform(1.0, 2.0) }
+        |scope| {
+            emit!(cube, scope.instance());
+            emit!(roof, above(scope, roof).instance());
+        }
+    }
+
+    node Silo emits {
+        tags { tower }
+        |scope| { emit!(frustum, scope.instance()); }
+    }
+}
+
+generator! {
+    /// A castle (thesis Fig. 5.10, right): four corner towers, a back and a
+    /// front wall with crenellations, a gate in the front wall and a main
+    /// hall in the courtyard.
+    pub struct Castle;
+    shapes: [cube, roof, frustum, window];
+    start: Court;
+
+    node Court {
+        tags { site }
+        slots {
+            tower[4]: Tower = 1.0,
+            wall[2]: CastleWall = 1.0,
+            gate: Gate = 1.0,
+            hall: MainHall = 1.0,
+        }
+        |scope| {
+            for k in 0..4 {
+                let (x, z) = ([-10.0, 10.0, -10.0, 10.0][k], [-10.0, -10.0, 10.0, 10.0][k]);
+                child!(tower[k], block(scope, x, z, Vec3::new(4.0, 13.0, 4.0)));
+            }
+            child!(wall[0], block(scope, 0.0, -10.0, Vec3::new(20.0, 7.0, 1.5)));
+            child!(wall[1], block(scope, 0.0, 10.0, Vec3::new(20.0, 7.0, 1.5)));
+            child!(gate, block(scope, 0.0, 10.5, Vec3::new(6.0, 9.0, 3.0)));
+            child!(hall, block(scope, 0.0, -2.0, Vec3::new(12.0, 8.0, 8.0)));
+        }
+    }
+
+    /// A round tower.
+    node Tower emits {
+        tags { tower }
+        |scope| { emit!(frustum, scope.instance()); }
+    }
+
+    /// A wall with merlons of about 1.2 m along its top.
+    node CastleWall emits {
+        tags { mass }
+        slots { top: Parapet = 1.0 }
+        |scope| {
+            emit!(cube, scope.instance());
+            child!(top, above(scope, 1.0));
+        }
+    }
+
+    /// Merlons and gaps along the top of a wall.
+    node Parapet {
+        slots { merlon: Merlon = 1.0 }
+        |scope| { split!(scope, x, [merlon: repeat(2.4)]); }
+    }
+
+    node Merlon emits {
+        |mut scope| {
+            scope.size.x *= 0.5;
+            emit!(cube, scope.instance());
+        }
+    }
+
+    node Gate emits {
+        tags { mass }
+        |scope| {
+            emit!(cube, scope.instance());
+            let mut door = scope.translated(Vec3::new(0.0, -0.2 * scope.size.y, 0.5 * scope.size.z));
+            door.size = Vec3::new(0.4 * scope.size.x, 0.6 * scope.size.y, 0.2).into();
+            emit!(window, door.instance());
+        }
+    }
+
+    /// The main hall: a block with a steep roof and a front of tall windows.
+    node MainHall emits {
+        tags { mass }
+        params { roof: f32 = uniform(3.0, 5.0) }
+        slots { front: Front = 1.0 }
+        |scope| {
+            emit!(cube, scope.instance());
+            emit!(roof, above(scope, roof).instance());
+            let mut front = scope.translated(Vec3::new(0.0, 0.0, 0.5 * scope.size.z + 0.1));
+            front.size.z = 0.2;
+            child!(front, front);
+        }
+    }
+
+    /// A front: bays of about 3 m, a tall window in each.
+    node Front {
+        tags { front }
+        slots { bay: Bay = 1.0 }
+        |scope| { split!(scope, x, [bay: repeat(3.0)]); }
+    }
+
+    node Bay {
+        tags { bay }
+        slots { window: Window = 1.0, wall: Wall = 1.0 }
+        |scope| { split!(scope, y, [wall: rel(0.3), window: 3.5, wall: rel(0.6)]); }
+    }
+
+    node Window emits {
+        tags { window }
+        |mut scope| {
+            scope.size.x *= 0.4;
+            emit!(window, scope.instance());
+        }
+    }
+
+    node Wall {
+        tags { wall }
+        |scope| { let _ = scope; }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::express::{Generator, Instances};
+
+    fn count<G: Generator>(g: &G, shape: &str) -> usize {
+        let c = crate::ops::default_model(g.graph()).unwrap();
+        let mut out = Instances::default();
+        g.express(&c, &mut out);
+        let id = g.shapes().iter().position(|s| s == shape).unwrap();
+        out.0.iter().filter(|i| i.shape as usize == id).count()
+    }
+
+    #[test]
+    fn six_mass_parts_against_eight() {
+        // House parts and sheds are boxes (with roofs), silos frusta.
+        assert_eq!(count(&Farm, "frustum"), 2);
+        assert_eq!(count(&Farm, "roof"), 4);
+        // Four towers; two walls, a gate and a hall as boxes (and merlons).
+        assert_eq!(count(&Castle, "frustum"), 4);
+        assert_eq!(count(&Castle, "roof"), 1);
+        assert!(count(&Castle, "cube") > 4 + 8);
+        assert!(count(&Farm, "window") >= 6);
+    }
+}
