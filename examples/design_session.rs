@@ -66,7 +66,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let models = &g.models[1..];
         let liked = models
             .iter()
-            .filter(|m| wing_pairs(graph, &m.chromosome) > 0.0)
+            .filter(|m| {
+                m.chromosome
+                    .as_ref()
+                    .is_some_and(|c| wing_pairs(graph, c) > 0.0)
+            })
             .count();
         100.0 * liked as f64 / models.len() as f64
     };

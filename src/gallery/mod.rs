@@ -211,8 +211,9 @@ impl GalleryOptions {
 /// One model of a gallery.
 #[derive(Clone, Debug)]
 pub struct GalleryModel {
-    /// Its chromosome.
-    pub chromosome: Chromosome,
+    /// Its chromosome; `None` for models given as instances
+    /// ([`Gallery::of_instances`]).
+    pub chromosome: Option<Chromosome>,
     /// Its view attributes from the gallery's view.
     pub attributes: ViewAttributes,
     /// Its cluster.
@@ -323,6 +324,25 @@ impl Gallery {
         Self::build(label, models, centre, others, options, progress)
     }
 
+    /// The gallery of models given as their instances (e.g. design
+    /// variations, [`crate::transform::Variety`]): `models[0]` in the
+    /// middle, every model coloured by shape with `meshes`.
+    pub fn of_instances(
+        label: &str,
+        meshes: &ShapeMeshes,
+        models: Vec<Vec<Instance>>,
+        options: &GalleryOptions,
+        progress: &(dyn Fn(usize) + Sync),
+    ) -> Result<Self, GalleryError> {
+        options.check()?;
+        if models.is_empty() {
+            return Err(GalleryError::Empty(0));
+        }
+        let meshes = RenderMeshes::new(meshes)?;
+        let all = vec![None; models.len()];
+        Self::assemble(label, meshes, all, models, options, progress)
+    }
+
     fn build(
         label: &str,
         models: &dyn Models,
@@ -334,11 +354,25 @@ impl Gallery {
         let meshes = render_meshes(models, options.terminals)?;
         let mut all = vec![centre];
         all.extend(others);
-        // Each model's instances and bounding sphere, once.
-        let mut instances: Vec<(Vec<Instance>, Option<BoundingSphere>)> = all
-            .par_iter()
-            .map(|c| {
-                let inst = models.instances(c);
+        let instances: Vec<Vec<Instance>> = all.par_iter().map(|c| models.instances(c)).collect();
+        let all = all.into_iter().map(Some).collect();
+        Self::assemble(label, meshes, all, instances, options, progress)
+    }
+
+    /// The gallery of models with these instances (and chromosomes, where
+    /// they have one).
+    fn assemble(
+        label: &str,
+        meshes: RenderMeshes,
+        mut all: Vec<Option<Chromosome>>,
+        instances: Vec<Vec<Instance>>,
+        options: &GalleryOptions,
+        progress: &(dyn Fn(usize) + Sync),
+    ) -> Result<Self, GalleryError> {
+        // Each model's bounding sphere, once.
+        let mut instances: Vec<(Vec<Instance>, Option<BoundingSphere>)> = instances
+            .into_par_iter()
+            .map(|inst| {
                 let sphere = meshes.bounding_sphere(&inst);
                 (inst, sphere)
             })

@@ -10,6 +10,7 @@ use base64::Engine as _;
 use serde::Serialize;
 
 use super::{Gallery, GalleryError, Models};
+use crate::genome::Chromosome;
 use crate::score::{ATTRIBUTE_NAMES, png_bytes, write_atomically, write_obj};
 
 /// The files [`Gallery::write`] writes (besides `models/`).
@@ -101,17 +102,16 @@ impl Gallery {
         let mut files = vec![(None, None); self.models.len()];
         for (n, &m) in shown.iter().enumerate() {
             let model = &self.models[m];
+            let Some(chromosome) = &model.chromosome else {
+                continue; // a model given as instances: the picture shows it
+            };
             let obj = model_dir.join(format!("{n:02}.obj"));
             let mut text = Vec::new();
-            write_obj(
-                &mut text,
-                &models.instances(&model.chromosome),
-                models.meshes(),
-            )
-            .map_err(|e| io(&obj, e))?;
+            write_obj(&mut text, &models.instances(chromosome), models.meshes())
+                .map_err(|e| io(&obj, e))?;
             write_atomically(&obj, &text)?;
             let json = model_dir.join(format!("{n:02}.json"));
-            let data = model.chromosome.to_data(models.graph());
+            let data = chromosome.to_data(models.graph());
             let text = serde_json::to_string_pretty(&data).expect("chromosome data serializes");
             write_atomically(&json, text.as_bytes())?;
             files[m] = (
@@ -151,7 +151,7 @@ impl Gallery {
                 .map(|(i, m)| JsonModel {
                     index: i,
                     cluster: m.cluster,
-                    genes: m.chromosome.len(),
+                    genes: m.chromosome.as_ref().map_or(0, Chromosome::len),
                     instances: m.instances,
                     attributes: m.attributes.for_clustering(),
                     projection: m.projection,
@@ -232,7 +232,7 @@ impl Gallery {
                 cls = if n == 0 { " centre" } else { "" },
                 img = data_url(thumbnail)?,
                 w = 160.min(thumbnail.width()),
-                genes = model.chromosome.len(),
+                genes = model.chromosome.as_ref().map_or(0, Chromosome::len),
                 inst = model.instances,
             );
             if let (Some(obj), Some(json)) = &files[m] {

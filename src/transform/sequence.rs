@@ -48,7 +48,12 @@ pub fn visible(shapes: &[Placed], scale: f32) -> usize {
 
 /// The built-in mesh of each of `t`'s shapes (a unit cube for a name without one).
 pub fn meshes(t: &Transformation) -> Result<ShapeMeshes, crate::score::ScoreError> {
-    let names: Vec<Cow<'static, str>> = t.shapes().to_vec();
+    named_meshes(t.shapes())
+}
+
+/// The built-in mesh of each shape of `names` (a unit cube for a name without one).
+pub fn named_meshes(names: &[Cow<'static, str>]) -> Result<ShapeMeshes, crate::score::ScoreError> {
+    let names = names.to_vec();
     let meshes: Vec<Mesh> = names
         .iter()
         .map(|n| Mesh::builtin(n).unwrap_or_else(Mesh::unit_cube))
@@ -58,6 +63,7 @@ pub fn meshes(t: &Transformation) -> Result<ShapeMeshes, crate::score::ScoreErro
 
 /// Frames as sets of voxels of one grid fitted to both designs, to measure
 /// how much a sequence changes from one frame to the next.
+#[derive(Clone)]
 pub struct Occupancy {
     grid: Grid,
     solids: Vec<Solid>,
@@ -69,12 +75,23 @@ impl Occupancy {
     /// A grid of `side`³ cells around both designs of `t` (their bounding
     /// box, with a margin of 2 %).
     pub fn new(t: &Transformation, side: u32) -> Result<Self, crate::score::ScoreError> {
-        let meshes = meshes(t)?;
+        let ends = [t.at(0.0), t.at(1.0)];
+        Self::around(t.shapes(), ends.iter().flatten(), side)
+    }
+
+    /// A grid of `side`³ cells around `shapes` (of the shapes named
+    /// `names`), with a margin of 2 %.
+    pub fn around<'a>(
+        names: &[Cow<'static, str>],
+        shapes: impl IntoIterator<Item = &'a Placed>,
+        side: u32,
+    ) -> Result<Self, crate::score::ScoreError> {
+        let meshes = named_meshes(names)?;
         let solids = (0..meshes.len() as u16)
             .map(|i| Solid::new(meshes.name(i), meshes.mesh(i)))
             .collect::<Result<Vec<_>, _>>()?;
         let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-        for p in t.at(0.0).iter().chain(t.at(1.0).iter()) {
+        for p in shapes {
             for c in super::pairing::corners(&p.transform) {
                 lo = lo.min(c);
                 hi = hi.max(c);
@@ -198,6 +215,7 @@ pub struct FrameFacts {
 }
 
 /// Renders transformation frames from one camera fitted to both designs.
+#[derive(Clone)]
 pub struct Painter {
     meshes: RenderMeshes,
     camera: crate::score::Camera,
@@ -213,13 +231,26 @@ impl Painter {
         viewpoint: Viewpoint,
         size: u32,
     ) -> Result<Self, crate::score::ScoreError> {
-        let meshes = RenderMeshes::new(&meshes(t)?)?;
-        let mut both = instances(&t.at(0.0));
-        both.extend(instances(&t.at(1.0)));
-        let sphere = meshes.bounding_sphere(&both).unwrap_or(BoundingSphere {
-            center: crate::glam::DVec3::ZERO,
-            radius: 1.0,
-        });
+        let mut both = t.at(0.0);
+        both.extend(t.at(1.0));
+        Self::framing(t.shapes(), &both, viewpoint, size)
+    }
+
+    /// A painter for shapes named `names`, its camera at `viewpoint`
+    /// fitted to `framing` (e.g. every variation of a variety).
+    pub fn framing(
+        names: &[Cow<'static, str>],
+        framing: &[Placed],
+        viewpoint: Viewpoint,
+        size: u32,
+    ) -> Result<Self, crate::score::ScoreError> {
+        let meshes = RenderMeshes::new(&named_meshes(names)?)?;
+        let sphere = meshes
+            .bounding_sphere(&instances(framing))
+            .unwrap_or(BoundingSphere {
+                center: crate::glam::DVec3::ZERO,
+                radius: 1.0,
+            });
         let camera = viewpoint.camera(&sphere, 40f64.to_radians(), (size, size))?;
         Ok(Self {
             meshes,
