@@ -12,7 +12,7 @@ use shapegen::scenes::{
     Spaceship, SympodialTree, TreeV1, TreeV2,
 };
 use shapegen::transform::{
-    Blend, Design, Mode, PairingMethod, Pivot, Placed, Settings, Transformation,
+    Blend, Design, Mixing, Mode, PairingMethod, Pivot, Placed, Settings, Transformation, Variety,
 };
 
 /// A random derivation: a random individual changed by random operators.
@@ -81,6 +81,60 @@ fn close(a: &[(u16, [f32; 12])], b: &[(u16, [f32; 12])]) -> Result<(), TestCaseE
         used[found.unwrap_or_default()] = true;
     }
     Ok(())
+}
+
+/// Checks that a façade's walls, pillars, ledges and window frames
+/// (everything but the panes in front) tile the rectangle they span on
+/// the xy plane, with no gap (a 40 × 20 grid of points) and no overlap
+/// (their areas add up to its area); returns its width and height.
+fn tiled(
+    names: &[std::borrow::Cow<'static, str>],
+    shapes: &[Placed],
+) -> Result<Vec3, TestCaseError> {
+    let pane = names.iter().position(|s| s == "window").map(|i| i as u16);
+    let boxes: Vec<Affine3A> = shapes
+        .iter()
+        .filter(|p| Some(p.shape) != pane)
+        .map(|p| p.transform)
+        .collect();
+    let half = |b: &Affine3A| Vec3::new(b.matrix3.x_axis.x, b.matrix3.y_axis.y, 0.0).abs() * 0.5;
+    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+    for b in &boxes {
+        let c = Vec3::from(b.translation);
+        lo = lo.min(c - half(b));
+        hi = hi.max(c + half(b));
+    }
+    let e = hi - lo;
+    let area: f32 = boxes.iter().map(|b| 4.0 * half(b).x * half(b).y).sum();
+    prop_assert!(
+        (area - e.x * e.y).abs() <= 1e-3 * e.x * e.y,
+        "area {} of a {} x {} façade",
+        area,
+        e.x,
+        e.y
+    );
+    for i in 0..40 {
+        for j in 0..20 {
+            let p = Vec3::new(
+                lo.x + e.x * (i as f32 + 0.5) / 40.0,
+                lo.y + e.y * (j as f32 + 0.5) / 20.0,
+                0.0,
+            );
+            let covered = boxes.iter().any(|b| {
+                let (c, h) = (Vec3::from(b.translation), half(b));
+                (p.x - c.x).abs() <= h.x + 1e-4 && (p.y - c.y).abs() <= h.y + 1e-4
+            });
+            prop_assert!(
+                covered,
+                "({}, {}) of a {} x {} façade is bare",
+                p.x,
+                p.y,
+                e.x,
+                e.y
+            );
+        }
+    }
+    Ok(e)
 }
 
 fn settings(k: u8) -> Settings {
@@ -164,35 +218,50 @@ proptest! {
             (sample(&classic, sa), sample(&modern, sb))
         };
         let tr = Transformation::new(a, b);
-        let pane = tr.shapes().iter().position(|s| s == "window").unwrap() as u16;
-        let base = |p: &[Placed]| -> Vec<Affine3A> {
-            p.iter().filter(|p| p.shape != pane).map(|p| p.transform).collect()
-        };
         // The façade's width and height at each end, from its shapes.
-        let extent = |boxes: &[Affine3A]| {
-            let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-            for b in boxes {
-                let (c, h) = (Vec3::from(b.translation), Vec3::new(b.matrix3.x_axis.x, b.matrix3.y_axis.y, 0.0).abs() * 0.5);
-                lo = lo.min(c - h);
-                hi = hi.max(c + h);
-            }
-            hi - lo
-        };
-        let (ea, eb) = (extent(&base(&tr.at(0.0))), extent(&base(&tr.at(1.0))));
+        let (ea, eb) = (tiled(tr.shapes(), &tr.at(0.0))?, tiled(tr.shapes(), &tr.at(1.0))?);
         let (w, h) = (ea.x + (eb.x - ea.x) * t, ea.y + (eb.y - ea.y) * t);
-        let boxes = base(&tr.at(t));
-        let area: f32 = boxes.iter().map(|b| (b.matrix3.x_axis.x * b.matrix3.y_axis.y).abs()).sum();
-        prop_assert!((area - w * h).abs() <= 1e-3 * w * h, "area {} of a {} x {} façade", area, w, h);
-        for i in 0..40 {
-            for j in 0..20 {
-                let p = Vec3::new(-0.5 * w + w * (i as f32 + 0.5) / 40.0, h * (j as f32 + 0.5) / 20.0, 0.0);
-                let covered = boxes.iter().any(|b| {
-                    let c = Vec3::from(b.translation);
-                    (p.x - c.x).abs() <= 0.5 * b.matrix3.x_axis.x.abs() + 1e-4
-                        && (p.y - c.y).abs() <= 0.5 * b.matrix3.y_axis.y.abs() + 1e-4
-                });
-                prop_assert!(covered, "({}, {}) of a {} x {} façade is bare at t = {}", p.x, p.y, w, h, t);
-            }
+        let e = tiled(tr.shapes(), &tr.at(t))?;
+        prop_assert!((e.x - w).abs() <= 1e-3 * w && (e.y - h).abs() <= 1e-3 * h, "{} x {} façade, expected {} x {}", e.x, e.y, w, h);
+    }
+
+    /// Variations of four façades are made of merged splits: each tiles
+    /// its façade; the same seed gives the same variation.
+    #[test]
+    fn facade_variations_tile_their_facades(seeds in prop::array::uniform4(any::<u64>()), seed: u64, switch: bool) {
+        let designs: Vec<Design> = seeds
+            .iter()
+            .enumerate()
+            .map(|(k, &s)| {
+                let mut rng = stream(s, &[]);
+                if k % 2 == 0 {
+                    Design::new(ClassicFacade, uncontrolled(ClassicFacade.graph(), &mut rng).unwrap()).unwrap()
+                } else {
+                    Design::new(ModernFacade, uncontrolled(ModernFacade.graph(), &mut rng).unwrap()).unwrap()
+                }
+            })
+            .collect();
+        let variety = Variety::new(designs).unwrap();
+        let mixing = if switch { Mixing::Switch } else { Mixing::Blend };
+        let v = variety.variation(seed, mixing);
+        tiled(variety.shapes(), &v)?;
+        prop_assert_eq!(v, variety.variation(seed, mixing));
+    }
+
+    /// Variations of farms and castles place valid shapes only.
+    #[test]
+    fn building_variations_are_valid(seeds in prop::array::uniform4(any::<u64>()), seed: u64, switch: bool) {
+        let designs: Vec<Design> = seeds
+            .iter()
+            .enumerate()
+            .map(|(k, &s)| if k % 2 == 0 { design(Farm, s) } else { design(Castle, s) })
+            .collect();
+        let variety = Variety::new(designs).unwrap();
+        let v = variety.variation(seed, if switch { Mixing::Switch } else { Mixing::Blend });
+        for p in &v {
+            let (sc, r, x) = p.transform.to_scale_rotation_translation();
+            prop_assert!(sc.is_finite() && r.is_finite() && x.is_finite(), "{:?}", p);
+            prop_assert!((p.shape as usize) < variety.shapes().len());
         }
     }
 
@@ -326,6 +395,75 @@ mod command {
         assert!(
             inked > 500,
             "the middle frame is nearly blank ({inked} pixels)"
+        );
+    }
+
+    #[test]
+    fn variations_write_pictures_a_gallery_and_seeds_that_reproduce_them() {
+        let dir = TempDir::new("transform", "variations");
+        let file = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/transformations/building_variety.toml"
+        );
+        let run = |name: &str, threads: &str| {
+            let out = dir.join(name);
+            let o = Command::new(env!("CARGO_BIN_EXE_shapegen"))
+                .env("RAYON_NUM_THREADS", threads)
+                .args([
+                    "transform",
+                    file,
+                    "--variations",
+                    "6",
+                    "--seed",
+                    "9",
+                    "--out",
+                ])
+                .arg(&out)
+                .output()
+                .unwrap();
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+            out
+        };
+        let (one, two) = (run("one", "1"), run("two", "2"));
+        for f in [
+            "variations/000.png",
+            "variations/005.png",
+            "variations.png",
+            "gallery.png",
+        ] {
+            assert!(one.join(f).is_file(), "{f}");
+        }
+        let facts = json(&one.join("variations.json"));
+        let list = facts["variations"].as_array().unwrap();
+        assert_eq!(list.len(), 6);
+        assert_eq!(list[5]["seed"], 14);
+        assert_eq!(facts["designs"].as_array().unwrap().len(), 4);
+        // The same seeds give the same variations whatever the thread count.
+        assert_eq!(facts, json(&two.join("variations.json")));
+        assert_eq!(
+            std::fs::read(one.join("variations/003.png")).unwrap(),
+            std::fs::read(two.join("variations/003.png")).unwrap()
+        );
+        // Zero variations is an error that names the flag.
+        let lone = dir.join("lone.toml");
+        std::fs::write(
+            &lone,
+            "[first]\ngenerator = \"farm\"\n[second]\ngenerator = \"farm\"\n",
+        )
+        .unwrap();
+        let o = shapegen(&[
+            "transform",
+            lone.to_str().unwrap(),
+            "--variations",
+            "0",
+            "--out",
+            dir.join("x").to_str().unwrap(),
+        ]);
+        assert!(!o.status.success());
+        assert!(
+            String::from_utf8_lossy(&o.stderr).contains("--variations 0"),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
         );
     }
 

@@ -46,15 +46,34 @@ pub struct TransformArgs {
     /// One frame only, at this time in [0, 1].
     #[arg(long)]
     pub at: Option<f32>,
-    /// Also write each frame's model as OBJ (frames/frame_NNN.obj).
+    /// Also write each frame's model as OBJ (frames/frame_NNN.obj; variations/NNN.obj).
     #[arg(long)]
     pub obj: bool,
+    /// Instead of a sequence, N variations mixing every design of the file
+    /// (first, second and each `[[design]]`): pictures, a gallery and variations.json.
+    #[arg(long, value_name = "N", conflicts_with_all = ["frames", "at"])]
+    pub variations: Option<usize>,
+    /// How variations mix the designs: blend (random blend weights) or switch (whole rules only).
+    #[arg(long, value_enum, default_value = "blend", requires = "variations")]
+    pub mixing: MixingArg,
+    /// Seed of the variations: variation i is drawn from seed + i.
+    #[arg(long, default_value_t = 1, requires = "variations")]
+    pub seed: u64,
     /// Output directory.
     #[arg(long, default_value = "transform")]
     pub out: PathBuf,
     /// No progress bar.
     #[arg(long, short)]
     pub quiet: bool,
+}
+
+/// How variations mix their designs (`--mixing`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum MixingArg {
+    /// Random blend weights (the thesis's variety).
+    Blend,
+    /// Weights 0 or 1: whole rules of one design or the other.
+    Switch,
 }
 
 /// `shapegen design …`: the steps of a design session.

@@ -30,6 +30,7 @@ mod render;
 mod run;
 mod saved;
 mod transform;
+mod variations;
 
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};

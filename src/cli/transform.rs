@@ -37,6 +37,9 @@ pub(super) fn transform(cli: &Cli, args: &TransformArgs) -> Result<(), CliError>
     crate::experiment::check_regular_file(&args.file).map_err(CliError::msg)?;
     let file =
         TransformFile::load(&args.file, &cli.registry).map_err(|e| CliError::msg(e.to_string()))?;
+    if let Some(n) = args.variations {
+        return super::variations::variations(args, file, n);
+    }
     let count = args.frames.unwrap_or(file.frames.count);
     if let Some(problem) = Frames::count_problem(count) {
         return Err(CliError::msg(format!("--frames: {problem}")));

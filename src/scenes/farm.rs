@@ -18,6 +18,18 @@ fn block(mut s: Scope, x: f32, z: f32, size: Vec3) -> Scope {
     s
 }
 
+/// [`block`] on a site whose plan is stretched by `spread` (x, z) and
+/// whose buildings are scaled by `scale`.
+fn placed(
+    s: Scope,
+    (x, z): (f32, f32),
+    size: Vec3,
+    spread: crate::glam::Vec2,
+    scale: f32,
+) -> Scope {
+    block(s, x * spread.x, z * spread.y, size * scale)
+}
+
 /// The box above `s` of height `h` (a roof, a parapet).
 fn above(s: Scope, h: f32) -> Scope {
     let mut r = s.translated(Vec3::new(0.0, 0.5 * (s.size.y + h), 0.0));
@@ -33,20 +45,26 @@ generator! {
     shapes: [cube, roof, frustum, window];
     start: Yard;
 
+    /// The yard: its plan stretched by `spread`, its buildings scaled by `scale`.
     node Yard {
         tags { site }
+        params {
+            spread: vec2 = uniform([0.6, 0.6], [1.4, 1.4]),
+            scale: f32 = uniform(0.7, 1.3),
+        }
         slots {
             house[2]: MainBuilding = 1.0,
             shed[2]: Shed = 1.0,
             silo[2]: Silo = 1.0,
         }
         |scope| {
-            child!(house[0], block(scope, -4.0, 1.0, Vec3::new(11.0, 5.0, 6.0)));
-            child!(house[1], block(scope, 6.5, -5.0, Vec3::new(8.0, 6.5, 7.0)));
-            child!(shed[0], block(scope, -8.0, 9.0, Vec3::new(5.0, 3.0, 4.0)));
-            child!(shed[1], block(scope, 1.5, 9.5, Vec3::new(6.0, 3.0, 4.0)));
-            child!(silo[0], block(scope, 11.5, 4.0, Vec3::new(3.0, 10.0, 3.0)));
-            child!(silo[1], block(scope, 11.5, 9.0, Vec3::new(3.0, 8.0, 3.0)));
+            let at = |xz, size| placed(scope, xz, size, spread, scale);
+            child!(house[0], at((-4.0, 1.0), Vec3::new(11.0, 5.0, 6.0)));
+            child!(house[1], at((6.5, -5.0), Vec3::new(8.0, 6.5, 7.0)));
+            child!(shed[0], at((-8.0, 9.0), Vec3::new(5.0, 3.0, 4.0)));
+            child!(shed[1], at((1.5, 9.5), Vec3::new(6.0, 3.0, 4.0)));
+            child!(silo[0], at((11.5, 4.0), Vec3::new(3.0, 10.0, 3.0)));
+            child!(silo[1], at((11.5, 9.0), Vec3::new(3.0, 8.0, 3.0)));
         }
     }
 
@@ -114,8 +132,14 @@ generator! {
     shapes: [cube, roof, frustum, window];
     start: Court;
 
+    /// The court: its plan stretched by `spread`, its buildings scaled by
+    /// `scale` (walls follow the plan's width).
     node Court {
         tags { site }
+        params {
+            spread: vec2 = uniform([0.6, 0.6], [1.4, 1.4]),
+            scale: f32 = uniform(0.7, 1.3),
+        }
         slots {
             tower[4]: Tower = 1.0,
             wall[2]: CastleWall = 1.0,
@@ -123,14 +147,16 @@ generator! {
             hall: MainHall = 1.0,
         }
         |scope| {
+            let at = |xz, size| placed(scope, xz, size, spread, scale);
             for k in 0..4 {
                 let (x, z) = ([-10.0, 10.0, -10.0, 10.0][k], [-10.0, -10.0, 10.0, 10.0][k]);
-                child!(tower[k], block(scope, x, z, Vec3::new(4.0, 13.0, 4.0)));
+                child!(tower[k], at((x, z), Vec3::new(4.0, 13.0, 4.0)));
             }
-            child!(wall[0], block(scope, 0.0, -10.0, Vec3::new(20.0, 7.0, 1.5)));
-            child!(wall[1], block(scope, 0.0, 10.0, Vec3::new(20.0, 7.0, 1.5)));
-            child!(gate, block(scope, 0.0, 10.5, Vec3::new(6.0, 9.0, 3.0)));
-            child!(hall, block(scope, 0.0, -2.0, Vec3::new(12.0, 8.0, 8.0)));
+            let wall = Vec3::new(20.0 * spread.x / scale, 7.0, 1.5);
+            child!(wall[0], at((0.0, -10.0), wall));
+            child!(wall[1], at((0.0, 10.0), wall));
+            child!(gate, at((0.0, 10.5), Vec3::new(6.0, 9.0, 3.0)));
+            child!(hall, at((0.0, -2.0), Vec3::new(12.0, 8.0, 8.0)));
         }
     }
 

@@ -23,7 +23,7 @@ const REFERENCE_TIME: f32 = 0.5;
 pub(crate) type Pairings = HashMap<(u32, u32), [Vec<(usize, usize)>; 2]>;
 
 /// Partners being chosen (and kept), or replayed.
-enum Pairs<'a> {
+pub(super) enum Pairs<'a> {
     Record(&'a mut Pairings),
     Replay(&'a Pairings),
 }
@@ -161,17 +161,13 @@ impl Transformation {
                     about,
                     node,
                 } => {
-                    scratch.0.clear();
-                    let design = self.design(second);
-                    design
-                        .stepper()
-                        .subtree(design.chromosome(), pos, &*state, &mut scratch);
-                    let source = Source::one(second, node);
-                    out.extend(scratch.0.iter().map(|i| Placed {
-                        shape: self.shape_of(second, i.shape),
-                        transform: scaled_about(&i.transform, about, fade),
-                        source,
-                    }));
+                    self.derive_single(
+                        (second, pos, node),
+                        &*state,
+                        (fade, about),
+                        &mut scratch,
+                        out,
+                    );
                 }
                 Work::Pair {
                     a: pa,
@@ -184,6 +180,28 @@ impl Transformation {
                 }
             }
         }
+    }
+
+    /// Derives a shape of one design alone, scaled by `fade` about `about`.
+    pub(super) fn derive_single(
+        &self,
+        (second, pos, node): (bool, u32, NodeId),
+        state: &dyn StateObj,
+        (fade, about): (f32, Vec3),
+        scratch: &mut Instances,
+        out: &mut Vec<Placed>,
+    ) {
+        scratch.0.clear();
+        let design = self.design(second);
+        design
+            .stepper()
+            .subtree(design.chromosome(), pos, state, scratch);
+        let source = Source::one(second, node);
+        out.extend(scratch.0.iter().map(|i| Placed {
+            shape: self.shape_of(second, i.shape),
+            transform: scaled_about(&i.transform, about, fade),
+            source,
+        }));
     }
 
     /// The first design, or the second.
@@ -256,10 +274,25 @@ impl Transformation {
         queue: &mut VecDeque<Work>,
         out: &mut Vec<Placed>,
     ) {
-        let key = (pa, pb);
         let timeline = self.matches.timelines()[m];
-        let w = timeline.weight(t);
-        let switched = timeline.switched(t);
+        let (w, switched) = (timeline.weight(t), timeline.switched(t));
+        self.step_pair((w, switched, None), (pa, pb), (sa, sb), pairs, queue, out);
+    }
+
+    /// One co-derivation step at blend weight `w`, discrete choices from
+    /// the second design if `switched`: the shapes it places go to `out`,
+    /// the shapes still to derive to `queue`. With `each`, every pair of
+    /// shapes blends with its own weight drawn from it instead (variations).
+    pub(super) fn step_pair(
+        &self,
+        (w, switched, mut each): (f32, bool, Option<&mut dyn FnMut() -> f32>),
+        (pa, pb): (u32, u32),
+        (sa, sb): (&dyn StateObj, &dyn StateObj),
+        pairs: &mut Pairs<'_>,
+        queue: &mut VecDeque<Work>,
+        out: &mut Vec<Placed>,
+    ) {
+        let key = (pa, pb);
         let pivot = self.settings.pivot;
         // Boxes are compared in the frame of the shape being derived, in
         // units of its size: what its rules place relative to it moves
@@ -316,7 +349,12 @@ impl Transformation {
             let (shape_a, shape_b) = (self.shape_of(false, x.shape), self.shape_of(true, y.shape));
             out.push(Placed {
                 shape: if switched { shape_b } else { shape_a },
-                transform: blend_instances(&x.transform, &y.transform, w, pivot),
+                transform: blend_instances(
+                    &x.transform,
+                    &y.transform,
+                    each.as_mut().map_or(w, |f| f()),
+                    pivot,
+                ),
                 source: Source::Both(x.node, y.node),
             });
         }
@@ -349,7 +387,8 @@ impl Transformation {
             used_a[i] = true;
             used_b[j] = true;
             let (x, y) = (&la[i], &lb[j]);
-            let scope = blend_scopes(&x.1.scope(), &y.1.scope(), w, pivot);
+            let wi = each.as_mut().map_or(w, |f| f());
+            let scope = blend_scopes(&x.1.scope(), &y.1.scope(), wi, pivot);
             queue.push_back(Work::Pair {
                 a: x.0,
                 b: y.0,

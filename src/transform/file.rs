@@ -11,6 +11,10 @@
 //! generator = "sympodial_tree"
 //! model = "default"
 //!
+//! [[design]]                   # more designs, for `--variations` (any number)
+//! generator = "tree_v2"
+//! seed = 3
+//!
 //! [blend]
 //! pairing = "munkres"          # or "mutual_nearest"
 //! mode = "grow"                # or "thesis"
@@ -74,6 +78,8 @@ pub enum TransformFileError {
 struct File {
     first: Spanned<Side>,
     second: Spanned<Side>,
+    #[serde(default)]
+    design: Vec<Spanned<Side>>,
     #[serde(default)]
     blend: Blending,
     #[serde(default)]
@@ -165,6 +171,9 @@ impl Default for Frames {
 pub struct TransformFile {
     /// The transformation it describes.
     pub transformation: Transformation,
+    /// The designs of `[[design]]` tables, which variations mix with the
+    /// first and the second ([`Variety`](super::Variety)).
+    pub more: Vec<Design>,
     /// How to show it.
     pub frames: Frames,
     /// Files it read (chromosomes), which outputs must not replace.
@@ -235,6 +244,11 @@ impl TransformFile {
         let mut inputs = Vec::new();
         let a = design(&src, &file.first, "first", base, registry, &mut inputs)?;
         let b = design(&src, &file.second, "second", base, registry, &mut inputs)?;
+        let more = file
+            .design
+            .iter()
+            .map(|d| design(&src, d, "design", base, registry, &mut inputs))
+            .collect::<Result<Vec<_>, _>>()?;
         let mut t = Transformation::new(a, b).with_settings(Settings {
             pairing: file.blend.pairing,
             mode: file.blend.mode,
@@ -275,6 +289,7 @@ impl TransformFile {
         }
         Ok(Self {
             transformation: t,
+            more,
             frames: f,
             inputs,
             edits: file.matches.add.len() + file.matches.remove.len() + file.timeline.len(),

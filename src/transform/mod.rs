@@ -50,6 +50,7 @@ mod matches;
 mod pairing;
 pub mod sequence;
 mod split_merge;
+mod variety;
 
 use std::borrow::Cow;
 
@@ -64,6 +65,7 @@ pub use file::{Frames, TransformFile, TransformFileError};
 pub use matches::{Matches, Timeline};
 pub use pairing::PairingMethod;
 pub use split_merge::DEFAULT_SPACER;
+pub use variety::{Mixing, Variety};
 
 /// What can go wrong setting up a transformation.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -101,6 +103,9 @@ pub enum TransformError {
     /// The start nodes always match.
     #[error("the start nodes always match; their match cannot be removed")]
     StartMatch,
+    /// A variety needs two designs at least.
+    #[error("a variety needs at least two designs, got {0}")]
+    TooFewDesigns(usize),
     /// The spacer tag is not a tag.
     #[error("the spacer `{tag}` is not a tag: {reason}")]
     BadSpacer {
