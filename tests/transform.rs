@@ -8,8 +8,8 @@ use shapegen::glam::{Affine3A, Vec3};
 use shapegen::prelude::*;
 use shapegen::rng::stream;
 use shapegen::scenes::{
-    Castle, ClassicFacade, Farm, GridCity, ModernFacade, MonopodialTree, SpaceFillingCity,
-    Spaceship, SympodialTree, TreeV1, TreeV2,
+    Apartments, Castle, ClassicFacade, Farm, GridCity, Houses, ModernFacade, MonopodialTree,
+    SpaceFillingCity, Spaceship, SympodialTree, TreeV1, TreeV2,
 };
 use shapegen::transform::{
     Blend, Design, Mixing, Mode, PairingMethod, Pivot, Placed, Settings, Transformation, Variety,
@@ -150,6 +150,7 @@ fn settings(k: u8) -> Settings {
         } else {
             Pivot::Base
         },
+        merge: false,
     }
 }
 
@@ -323,6 +324,43 @@ fn the_default_tree_pair_blends_every_segment() {
     );
     // Same inputs, same sequence.
     assert_eq!(tr.at(0.37), tr.at(0.37));
+}
+
+/// One-to-many matches (thesis Fig. 5.12): six houses into two blocks.
+/// Every house blends toward a block, none vanishes; halfway the houses
+/// bound for one block have merged; the end is the two blocks, each once.
+#[test]
+fn houses_merge_into_apartment_blocks() {
+    let a = Design::default_model(Houses).unwrap();
+    let b = Design::default_model(Apartments).unwrap();
+    let merged = Transformation::new(a.clone(), b.clone()).with_settings(Settings {
+        merge: true,
+        ..Settings::default()
+    });
+    assert_eq!(merged.at(0.0).len(), 12); // six houses and their roofs
+    let end = merged.at(1.0);
+    assert_eq!(end.len(), 2, "{end:?}");
+    let own: Vec<Affine3A> = b.express().iter().map(|i| i.transform).collect();
+    for p in &end {
+        assert!(
+            own.iter().any(|o| o.abs_diff_eq(p.transform, 1e-4)),
+            "{p:?}"
+        );
+    }
+    // Every house is on its way to a block: none is faded.
+    let half = merged.at(0.6);
+    assert!(
+        half.iter()
+            .all(|p| matches!(p.source, shapegen::transform::Source::Both(..)))
+    );
+    assert!(half.len() < 12, "nothing merged halfway: {}", half.len());
+    // One-to-one, four houses have no block and shrink away instead.
+    let one = Transformation::new(a, b);
+    assert!(
+        one.at(0.6)
+            .iter()
+            .any(|p| !matches!(p.source, shapegen::transform::Source::Both(..)))
+    );
 }
 
 #[test]

@@ -265,3 +265,52 @@ mod tests {
         assert!(count(&Farm, "window") >= 6);
     }
 }
+
+generator! {
+    /// Residential houses (thesis Fig. 5.12, left): two rows of three
+    /// small houses with gable roofs, tagged `mass`.
+    pub struct Houses;
+    shapes: [cube, roof];
+    start: Street;
+
+    node Street {
+        tags { site }
+        slots { house[6]: House = 1.0 }
+        |scope| {
+            for k in 0..6 {
+                let (x, z) = (-6.0 + 6.0 * (k % 3) as f32, if k < 3 { -5.0 } else { 5.0 });
+                child!(house[k], block(scope, x, z, Vec3::new(4.0, 4.0, 5.0)));
+            }
+        }
+    }
+
+    node House emits {
+        tags { mass }
+        |scope| {
+            emit!(cube, scope.instance());
+            emit!(roof, above(scope, 2.0).instance());
+        }
+    }
+}
+
+generator! {
+    /// Apartment blocks (thesis Fig. 5.12, middle): two tall blocks,
+    /// tagged `mass`, where the houses stood.
+    pub struct Apartments;
+    shapes: [cube, roof];
+    start: Street;
+
+    node Street {
+        tags { site }
+        slots { block[2]: Block = 1.0 }
+        |scope| {
+            child!(block[0], block(scope, -3.0, 0.0, Vec3::new(10.0, 18.0, 8.0)));
+            child!(block[1], block(scope, 6.0, 0.0, Vec3::new(5.0, 12.0, 15.0)));
+        }
+    }
+
+    node Block emits {
+        tags { mass }
+        |scope| { emit!(cube, scope.instance()); }
+    }
+}

@@ -18,6 +18,8 @@
 //! | [`ModernFacade`] | thesis Fig. A.2 (split rules) | `wall`, `window` |
 //! | [`Farm`] | thesis Fig. 5.10 | `cube`, `roof`, `frustum`, `window` |
 //! | [`Castle`] | thesis Fig. 5.10 | `cube`, `roof`, `frustum`, `window` |
+//! | [`Houses`] | thesis Fig. 5.12 (one-to-many) | `cube`, `roof` |
+//! | [`Apartments`] | thesis Fig. 5.12 (one-to-many) | `cube`, `roof` |
 
 mod city;
 mod facade;
@@ -30,7 +32,7 @@ mod unrolled;
 
 pub use city::{GRID, GridCity, LOT_STEP, SpaceFillingCity, grid_lot};
 pub use facade::{ClassicFacade, ModernFacade};
-pub use farm::{Castle, Farm};
+pub use farm::{Apartments, Castle, Farm, Houses};
 pub use lsystem::{MonopodialTree, SympodialTree};
 pub use spaceship::{ShipState, Spaceship};
 pub use tree::{TreeV1, TreeV2};
@@ -38,7 +40,8 @@ pub use tree::{TreeV1, TreeV2};
 /// Registers the paper's generators under the names experiment files use:
 /// `spaceship`, `tree_v1`, `tree_v2`, `space_filling_city`, `grid_city`,
 /// the thesis's tree pair `monopodial_tree`, `sympodial_tree`, its
-/// façades `classic_facade`, `modern_facade`, and its `farm` and `castle`.
+/// façades `classic_facade`, `modern_facade`, its `farm` and `castle`, and
+/// its `houses` and `apartments`.
 /// [`Registry::builtin`](crate::registry::Registry::builtin) calls it; a
 /// user's generators register the same way.
 pub fn register(registry: &mut crate::registry::Registry) {
@@ -53,5 +56,7 @@ pub fn register(registry: &mut crate::registry::Registry) {
         .register("classic_facade", ClassicFacade)
         .register("modern_facade", ModernFacade)
         .register("farm", Farm)
-        .register("castle", Castle);
+        .register("castle", Castle)
+        .register("houses", Houses)
+        .register("apartments", Apartments);
 }

@@ -180,6 +180,9 @@ impl Transformation {
                 }
             }
         }
+        if self.settings.merge {
+            super::merge::merge_masses(out);
+        }
     }
 
     /// Derives a shape of one design alone, scaled by `fade` about `about`.
@@ -339,7 +342,7 @@ impl Transformation {
                 let penalty = if same { 0.0 } else { 1.0 };
                 Some(distance(&corners_a[i], &corners_b[j]) + penalty)
             };
-            pair(self.settings.pairing, ta.len(), tb.len(), &cost)
+            self.pairs_of(ta.len(), tb.len(), &cost)
         });
         let (mut used_a, mut used_b) = (vec![false; ta.len()], vec![false; tb.len()]);
         for &(i, j) in terminal_pairs.iter() {
@@ -380,7 +383,7 @@ impl Transformation {
                 self.matches.of(la[i].2, lb[j].2)?;
                 Some(distance(&boxes_a[i], &boxes_b[j]))
             };
-            pair(self.settings.pairing, la.len(), lb.len(), &cost)
+            self.pairs_of(la.len(), lb.len(), &cost)
         });
         let (mut used_a, mut used_b) = (vec![false; la.len()], vec![false; lb.len()]);
         for &(i, j) in leaf_pairs.iter() {
@@ -412,6 +415,22 @@ impl Transformation {
                     });
                 }
             }
+        }
+    }
+
+    /// Partners by the settings' method, with every shape left over given
+    /// its nearest partner when matches are one-to-many.
+    fn pairs_of(
+        &self,
+        rows: usize,
+        columns: usize,
+        cost: &dyn Fn(usize, usize) -> Option<f32>,
+    ) -> Vec<(usize, usize)> {
+        let pairs = pair(self.settings.pairing, rows, columns, cost);
+        if self.settings.merge {
+            super::pairing::with_nearest(pairs, rows, columns, cost)
+        } else {
+            pairs
         }
     }
 

@@ -20,6 +20,7 @@
 //! mode = "grow"                # or "thesis"
 //! pivot = "base"               # or "centre"
 //! spacer = "wall"              # the tag of split rules' spacers (default)
+//! merge = false                # one-to-many matches, intersecting blends merged
 //!
 //! [matches]
 //! add = [["A", "B"]]           # first generator's node, second's
@@ -106,6 +107,7 @@ struct Blending {
     mode: Mode,
     pivot: Pivot,
     spacer: Option<Spanned<String>>,
+    merge: bool,
 }
 
 #[derive(Default, Deserialize)]
@@ -253,6 +255,7 @@ impl TransformFile {
             pairing: file.blend.pairing,
             mode: file.blend.mode,
             pivot: file.blend.pivot,
+            merge: file.blend.merge,
         });
         if let Some(spacer) = &file.blend.spacer {
             t = t

@@ -47,6 +47,7 @@ mod design;
 pub mod edits;
 mod file;
 mod matches;
+mod merge;
 mod pairing;
 pub mod sequence;
 mod split_merge;
@@ -149,6 +150,11 @@ pub struct Settings {
     pub mode: Mode,
     /// The point blended shapes turn about.
     pub pivot: Pivot,
+    /// One-to-many matches and merged masses (thesis Fig. 5.12): a shape
+    /// left without a partner takes its nearest, shared, and blended
+    /// shapes of one kind (the same shape from the same pair of nodes)
+    /// that intersect become one box around them.
+    pub merge: bool,
 }
 
 /// Which design a placed shape comes from, with the node(s) that emitted it.

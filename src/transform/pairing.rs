@@ -49,6 +49,40 @@ const MAX_COST: f64 = (1u64 << 30) as f64;
 /// Pairs `rows` shapes with `columns` shapes, where `cost(i, j)` is the
 /// distance of a compatible pair and `None` for an incompatible one.
 /// Returns the pairs `(i, j)` in row order.
+/// One-to-many matches: `pairs` plus, for every row and every column left
+/// without a partner, its nearest partner (lowest cost), shared. Pairs
+/// are in the order rows then columns were given.
+#[must_use]
+pub fn with_nearest(
+    mut pairs: Vec<(usize, usize)>,
+    rows: usize,
+    columns: usize,
+    cost: &dyn Fn(usize, usize) -> Option<f32>,
+) -> Vec<(usize, usize)> {
+    let (mut row_used, mut col_used) = (vec![false; rows], vec![false; columns]);
+    for &(i, j) in &pairs {
+        row_used[i] = true;
+        col_used[j] = true;
+    }
+    let nearest = |candidates: &mut dyn Iterator<Item = (usize, Option<f32>)>| {
+        candidates
+            .filter_map(|(k, c)| c.map(|c| (k, c)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(k, _)| k)
+    };
+    for i in (0..rows).filter(|&i| !row_used[i]) {
+        if let Some(j) = nearest(&mut (0..columns).map(|j| (j, cost(i, j)))) {
+            pairs.push((i, j));
+        }
+    }
+    for j in (0..columns).filter(|&j| !col_used[j]) {
+        if let Some(i) = nearest(&mut (0..rows).map(|i| (i, cost(i, j)))) {
+            pairs.push((i, j));
+        }
+    }
+    pairs
+}
+
 pub fn pair(
     method: PairingMethod,
     rows: usize,
