@@ -67,6 +67,24 @@ pub enum Edit<S> {
 }
 
 impl<S> Edit<S> {
+    /// The same edit with its labels mapped by `f`.
+    fn map<T>(&self, f: impl Fn(S) -> T) -> Edit<T>
+    where
+        S: Copy,
+    {
+        match *self {
+            Self::DeleteAll(x) => Edit::DeleteAll(f(x)),
+            Self::Delete(i) => Edit::Delete(i),
+            Self::SemanticSwitch(x, y) => Edit::SemanticSwitch(f(x), f(y)),
+            Self::Swap(i) => Edit::Swap(i),
+            Self::Insert(i, x) => Edit::Insert(i, f(x)),
+            Self::InsertAll(x) => Edit::InsertAll(f(x)),
+            Self::DeleteMirrored(i) => Edit::DeleteMirrored(i),
+            Self::InsertMirrored(i, x) => Edit::InsertMirrored(i, f(x)),
+            Self::SwapMirrored(i) => Edit::SwapMirrored(i),
+        }
+    }
+
     /// Where the edit comes in the order ties are broken by.
     fn rank(&self) -> u8 {
         match self {
@@ -136,48 +154,59 @@ fn is_palindrome<S: PartialEq>(s: &[S]) -> bool {
     (0..n / 2).all(|i| s[i] == s[n - 1 - i])
 }
 
+/// A label, interned: the search runs on small numbers.
+type L = u8;
+/// Maps and sets of strings: hashed fast, the same way every run.
+type Map<K, V> = HashMap<K, V, foldhash::fast::FixedState>;
+type Set<K> = std::collections::HashSet<K, foldhash::fast::FixedState>;
+
 /// Counts of each label.
-fn counts<S: Copy + Eq + Hash>(s: &[S]) -> HashMap<S, usize> {
-    let mut c = HashMap::new();
+fn counts(s: &[L]) -> [u16; 256] {
+    let mut c = [0u16; 256];
     for &x in s {
-        *c.entry(x).or_insert(0) += 1;
+        c[x as usize] += 1;
     }
     c
 }
 
 /// The labels of `s` in order of first appearance.
-fn labels<S: Copy + Eq + Hash>(s: &[S]) -> Vec<S> {
-    let mut seen = std::collections::HashSet::new();
-    s.iter().copied().filter(|x| seen.insert(*x)).collect()
+fn labels(s: &[L]) -> Vec<L> {
+    let mut seen = [false; 256];
+    s.iter()
+        .copied()
+        .filter(|&x| !std::mem::replace(&mut seen[x as usize], true))
+        .collect()
 }
 
 /// What a search needs to know about the target.
-struct Target<'a, S, M> {
-    dst: &'a [S],
-    counts: HashMap<S, usize>,
-    labels: Vec<S>,
-    matches: M,
+struct Target<'a> {
+    dst: &'a [L],
+    counts: [u16; 256],
+    labels: Vec<L>,
+    /// `matches[x * alphabet + y]`: label `x` matches `y`.
+    matches: Vec<bool>,
+    alphabet: usize,
     max_len: usize,
 }
 
-impl<S, M> Target<'_, S, M>
-where
-    S: Copy + Eq + Hash + Ord,
-    M: Fn(S, S) -> bool,
-{
-    fn count(&self, x: S) -> usize {
-        self.counts.get(&x).copied().unwrap_or(0)
+impl Target<'_> {
+    fn count(&self, x: L) -> usize {
+        usize::from(self.counts[x as usize])
+    }
+
+    fn matches(&self, x: L, y: L) -> bool {
+        self.matches[x as usize * self.alphabet + y as usize]
     }
 
     /// Every string one edit from `s`, with the edit and its cost (half
     /// units), in the order ties are broken.
-    fn neighbours(&self, s: &[S], out: &mut Vec<(Vec<S>, Edit<S>, u32)>) {
+    fn neighbours(&self, s: &[L], out: &mut Vec<(Vec<L>, Edit<L>, u32)>) {
         out.clear();
         let n = s.len();
         let here = counts(s);
-        let count = |x: S| here.get(&x).copied().unwrap_or(0);
+        let count = |x: L| usize::from(here[x as usize]);
         let symmetric = is_palindrome(s);
-        let push = |t: Vec<S>, e: Edit<S>, cost: u32, out: &mut Vec<_>| {
+        let push = |t: Vec<L>, e: Edit<L>, cost: u32, out: &mut Vec<_>| {
             if t.len() > self.max_len {
                 return;
             }
@@ -191,13 +220,13 @@ where
         let own = labels(s);
         // Delete all: a label the target lacks, with no match in it.
         for &x in &own {
-            if self.count(x) == 0 && !self.labels.iter().any(|&y| (self.matches)(x, y)) {
-                let t: Vec<S> = s.iter().copied().filter(|&y| y != x).collect();
+            if self.count(x) == 0 && !self.labels.iter().any(|&y| self.matches(x, y)) {
+                let t: Vec<L> = s.iter().copied().filter(|&y| y != x).collect();
                 push(t, Edit::DeleteAll(x), UNIT, out);
             }
         }
         // Delete one (of a label the target has fewer of).
-        let mut seen = std::collections::HashSet::new();
+        let mut seen: Set<Vec<L>> = Set::default();
         for i in 0..n {
             let x = s[i];
             if self.count(x) > 0 && count(x) > self.count(x) {
@@ -222,7 +251,7 @@ where
                 continue;
             }
             for &y in &self.labels {
-                if y != x && (self.matches)(x, y) {
+                if y != x && self.matches(x, y) {
                     let t = s.iter().map(|&z| if z == x { y } else { z }).collect();
                     push(t, Edit::SemanticSwitch(x, y), UNIT, out);
                 }
@@ -245,7 +274,7 @@ where
         for &y in &self.labels {
             let switchable = own
                 .iter()
-                .any(|&x| self.count(x) == 0 && (self.matches)(x, y));
+                .any(|&x| self.count(x) == 0 && self.matches(x, y));
             if count(y) == 0 && !switchable {
                 push(self.insert_all(s, y), Edit::InsertAll(y), UNIT, out);
             }
@@ -292,19 +321,20 @@ where
     ///   nor every label that could switch into it holds;
     /// - a label both have, one delete per copy too many (nothing else
     ///   removes it).
-    fn lower_bound(&self, s: &[S]) -> u32 {
+    fn lower_bound(&self, s: &[L]) -> u32 {
         let here = counts(s);
-        let count = |x: &S| here.get(x).copied().unwrap_or(0);
-        let extra = here.keys().filter(|&&x| self.count(x) == 0).count();
-        let missing = self.labels.iter().filter(|&y| count(y) == 0).count();
+        let own = labels(s);
+        let count = |x: L| usize::from(here[x as usize]);
+        let extra = own.iter().filter(|&&x| self.count(x) == 0).count();
+        let missing = self.labels.iter().filter(|&&y| count(y) == 0).count();
         let mut edits = extra.max(missing);
         for &y in &self.labels {
             let want = self.count(y);
-            let have = count(&y);
-            let switchable: usize = here
+            let have = count(y);
+            let switchable: usize = own
                 .iter()
-                .filter(|&(&x, _)| self.count(x) == 0 && (self.matches)(x, y))
-                .map(|(_, &n)| n)
+                .filter(|&&x| self.count(x) == 0 && self.matches(x, y))
+                .map(|&x| count(x))
                 .sum();
             if have == 0 && switchable == 0 {
                 continue; // insert all brings every copy
@@ -318,7 +348,7 @@ where
     }
 
     /// `s` with the symbols of `y` inserted where the target has them.
-    fn insert_all(&self, s: &[S], y: S) -> Vec<S> {
+    fn insert_all(&self, s: &[L], y: L) -> Vec<L> {
         let mut t = s.to_vec();
         for (j, &z) in self.dst.iter().enumerate() {
             if z == y {
@@ -340,18 +370,58 @@ where
     S: Copy + Eq + Hash + Ord,
     M: Fn(S, S) -> bool,
 {
+    // Labels become small numbers, in their order: the search and its
+    // tie-breaks see the same labels in the same order.
+    let mut alphabet: Vec<S> = src.iter().chain(dst).copied().collect();
+    alphabet.sort_unstable();
+    alphabet.dedup();
+    if alphabet.len() > 256 {
+        return Err(EditError { expanded: 0 });
+    }
+    let id = |x: &S| alphabet.binary_search(x).expect("a label of the strings") as L;
+    let (src_ids, dst_ids): (Vec<L>, Vec<L>) =
+        (src.iter().map(id).collect(), dst.iter().map(id).collect());
+    let n = alphabet.len();
+    let mut table = vec![false; n * n];
+    for (i, &x) in alphabet.iter().enumerate() {
+        for (j, &y) in alphabet.iter().enumerate() {
+            table[i * n + j] = matches(x, y);
+        }
+    }
+    let path = search(&src_ids, &dst_ids, table, n)?;
+    let label = |x: L| alphabet[x as usize];
+    Ok(EditPath {
+        strings: path
+            .strings
+            .iter()
+            .map(|s| s.iter().map(|&x| label(x)).collect())
+            .collect(),
+        edits: path.edits.iter().map(|e| e.map(label)).collect(),
+        cost: path.cost,
+    })
+}
+
+/// [`edit_path`] on interned labels.
+fn search(
+    src: &[L],
+    dst: &[L],
+    matches: Vec<bool>,
+    alphabet: usize,
+) -> Result<EditPath<L>, EditError> {
     let target = Target {
         dst,
         counts: counts(dst),
         labels: labels(dst),
         matches,
+        alphabet,
         max_len: src.len().max(dst.len()) + SLACK,
     };
     // Strings by index; for each its best (cost, edit ranks), parent and edit.
-    let mut strings: Vec<Vec<S>> = vec![src.to_vec()];
-    let mut index: HashMap<Vec<S>, usize> = HashMap::from([(src.to_vec(), 0)]);
+    let mut strings: Vec<Vec<L>> = vec![src.to_vec()];
+    let mut index: Map<Vec<L>, usize> = Map::default();
+    index.insert(src.to_vec(), 0);
     let mut best: Vec<Key> = vec![(0, Vec::new())];
-    let mut parent: Vec<Option<(usize, Edit<S>)>> = vec![None];
+    let mut parent: Vec<Option<(usize, Edit<L>)>> = vec![None];
     let mut done: Vec<bool> = vec![false];
     let mut heap = BinaryHeap::from([Reverse((target.lower_bound(src), Vec::new(), 0usize))]);
     let mut expanded = 0usize;
