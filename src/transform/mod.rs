@@ -14,6 +14,11 @@
 //!   ([`PairingMethod`]: Munkres or mutual nearest, on the distance of box
 //!   corners divided by the size of the shape being derived) and pairs are
 //!   blended about a [`Pivot`]; paired shapes with a match co-derive further.
+//! - Split rules (`split!`): two matched nodes that both split along one
+//!   axis are merged as strings along their cheapest [`edits`] path and
+//!   laid out again to partition the blended shape (thesis §5.4.4).
+//! - One-to-many matches and merged masses ([`Settings::merge`], Fig. 5.12).
+//! - [`Variety`]: variations of several designs (§5.5.1).
 //! - Unpaired shapes: in the thesis's mode ([`Mode::Thesis`]) the first
 //!   design's are shown before the match's threshold and the second's from
 //!   it on, so they pop in and out. In [`Mode::Grow`] (the default) they
