@@ -18,6 +18,55 @@ fn block(mut s: Scope, x: f32, z: f32, size: Vec3) -> Scope {
     s
 }
 
+/// A thin slab on the front (+z) face of `s`: where window bays go.
+fn front_of(s: Scope) -> Scope {
+    let mut f = s.translated(Vec3::new(0.0, 0.0, 0.5 * s.size.z + 0.1));
+    f.size.z = 0.2;
+    f
+}
+
+/// Declares a generator with the given declaration plus the window front
+/// both buildings use: `Front` splits along x into bays of about `bay`,
+/// each `Bay` along y into wall, a window `window` high and wall (in the
+/// ratio `sill` to `lintel`), each `Window` a pane `pane` of the bay wide.
+macro_rules! with_front {
+    (
+        front { bay: $bay:expr, window: $window:expr, sill: $sill:expr, lintel: $lintel:expr, pane: $pane:expr }
+        $($declaration:tt)*
+    ) => {
+        generator! {
+            $($declaration)*
+
+            /// A front: bays, a window in each.
+            node Front {
+                tags { front }
+                slots { bay: Bay = 1.0 }
+                |scope| { split!(scope, x, [bay: repeat($bay)]); }
+            }
+
+            node Bay {
+                tags { bay }
+                slots { window: Window = 1.0, wall: Wall = 1.0 }
+                |scope| { split!(scope, y, [wall: rel($sill), window: $window, wall: rel($lintel)]); }
+            }
+
+            node Window emits {
+                tags { window }
+                |mut scope| {
+                    scope.size.x *= $pane;
+                    emit!(window, scope.instance());
+                }
+            }
+
+            /// Spacing in a split; shows nothing (the block behind is the wall).
+            node Wall {
+                tags { wall }
+                |scope| { let _ = scope; }
+            }
+        }
+    };
+}
+
 /// [`block`] on a site whose plan is stretched by `spread` (x, z) and
 /// whose buildings are scaled by `scale`.
 fn placed(
@@ -37,7 +86,8 @@ fn above(s: Scope, h: f32) -> Scope {
     r
 }
 
-generator! {
+with_front! {
+    front { bay: 2.5, window: 1.5, sill: 0.5, lintel: 0.5, pane: 0.5 }
     /// A farm (thesis Fig. 5.10, left): a farmhouse and a barn, two sheds
     /// and two silos around a yard. The farmhouse's front is split into
     /// window bays.
@@ -76,37 +126,8 @@ generator! {
         |scope| {
             emit!(cube, scope.instance());
             emit!(roof, above(scope, roof).instance());
-            let mut front = scope.translated(Vec3::new(0.0, 0.0, 0.5 * scope.size.z + 0.1));
-            front.size.z = 0.2;
-            child!(front, front);
+            child!(front, front_of(scope));
         }
-    }
-
-    /// A front: bays of about 2.5 m, a window in each.
-    node Front {
-        tags { front }
-        slots { bay: Bay = 1.0 }
-        |scope| { split!(scope, x, [bay: repeat(2.5)]); }
-    }
-
-    node Bay {
-        tags { bay }
-        slots { window: Window = 1.0, wall: Wall = 1.0 }
-        |scope| { split!(scope, y, [wall: rel(0.5), window: 1.5, wall: rel(0.5)]); }
-    }
-
-    node Window emits {
-        tags { window }
-        |mut scope| {
-            scope.size.x *= 0.5;
-            emit!(window, scope.instance());
-        }
-    }
-
-    /// Spacing in a split; shows nothing (the block behind is the wall).
-    node Wall {
-        tags { wall }
-        |scope| { let _ = scope; }
     }
 
     node Shed emits {
@@ -124,7 +145,8 @@ generator! {
     }
 }
 
-generator! {
+with_front! {
+    front { bay: 3.0, window: 3.5, sill: 0.3, lintel: 0.6, pane: 0.4 }
     /// A castle (thesis Fig. 5.10, right): four corner towers, a back and a
     /// front wall with crenellations, a gate in the front wall and a main
     /// hall in the courtyard.
@@ -207,62 +229,8 @@ generator! {
         |scope| {
             emit!(cube, scope.instance());
             emit!(roof, above(scope, roof).instance());
-            let mut front = scope.translated(Vec3::new(0.0, 0.0, 0.5 * scope.size.z + 0.1));
-            front.size.z = 0.2;
-            child!(front, front);
+            child!(front, front_of(scope));
         }
-    }
-
-    /// A front: bays of about 3 m, a tall window in each.
-    node Front {
-        tags { front }
-        slots { bay: Bay = 1.0 }
-        |scope| { split!(scope, x, [bay: repeat(3.0)]); }
-    }
-
-    node Bay {
-        tags { bay }
-        slots { window: Window = 1.0, wall: Wall = 1.0 }
-        |scope| { split!(scope, y, [wall: rel(0.3), window: 3.5, wall: rel(0.6)]); }
-    }
-
-    node Window emits {
-        tags { window }
-        |mut scope| {
-            scope.size.x *= 0.4;
-            emit!(window, scope.instance());
-        }
-    }
-
-    node Wall {
-        tags { wall }
-        |scope| { let _ = scope; }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::express::{Generator, Instances};
-
-    fn count<G: Generator>(g: &G, shape: &str) -> usize {
-        let c = crate::ops::default_model(g.graph()).unwrap();
-        let mut out = Instances::default();
-        g.express(&c, &mut out);
-        let id = g.shapes().iter().position(|s| s == shape).unwrap();
-        out.0.iter().filter(|i| i.shape as usize == id).count()
-    }
-
-    #[test]
-    fn six_mass_parts_against_eight() {
-        // House parts and sheds are boxes (with roofs), silos frusta.
-        assert_eq!(count(&Farm, "frustum"), 2);
-        assert_eq!(count(&Farm, "roof"), 4);
-        // Four towers; two walls, a gate and a hall as boxes (and merlons).
-        assert_eq!(count(&Castle, "frustum"), 4);
-        assert_eq!(count(&Castle, "roof"), 1);
-        assert!(count(&Castle, "cube") > 4 + 8);
-        assert!(count(&Farm, "window") >= 6);
     }
 }
 
@@ -312,5 +280,30 @@ generator! {
     node Block emits {
         tags { mass }
         |scope| { emit!(cube, scope.instance()); }
+    }
+}
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::express::{Generator, Instances};
+
+    fn count<G: Generator>(g: &G, shape: &str) -> usize {
+        let c = crate::ops::default_model(g.graph()).unwrap();
+        let mut out = Instances::default();
+        g.express(&c, &mut out);
+        let id = g.shapes().iter().position(|s| s == shape).unwrap();
+        out.0.iter().filter(|i| i.shape as usize == id).count()
+    }
+
+    #[test]
+    fn six_mass_parts_against_eight() {
+        // House parts and sheds are boxes (with roofs), silos frusta.
+        assert_eq!(count(&Farm, "frustum"), 2);
+        assert_eq!(count(&Farm, "roof"), 4);
+        // Four towers; two walls, a gate and a hall as boxes (and merlons).
+        assert_eq!(count(&Castle, "frustum"), 4);
+        assert_eq!(count(&Castle, "roof"), 1);
+        assert!(count(&Castle, "cube") > 4 + 8);
+        assert!(count(&Farm, "window") >= 6);
     }
 }
