@@ -5,11 +5,20 @@
 //! `window`, so the two transform into each other split by split; walls
 //! carry `wall`, the spacing a split transformation leaves out and puts back.
 
+use crate::express::Scope;
 use crate::generator;
-use crate::glam::Vec3;
+use crate::glam::{Affine3A, Vec3};
 
 /// Depth of a façade's wall.
 const DEPTH: f32 = 0.3;
+
+/// A window pane in `frame`, `width` and `height` of it, standing a little
+/// in front of the frame's wall.
+fn pane(frame: Scope, width: f32, height: f32) -> Affine3A {
+    let mut p = frame;
+    p.resize(Vec3::new(width, height, 1.2));
+    p.instance()
+}
 
 generator! {
     /// A classical façade (thesis Fig. A.2, left): storeys of about 4.5 m
@@ -78,11 +87,7 @@ generator! {
         tags { window }
         |scope| {
             emit!(wall, scope.instance());
-            let mut pane = scope;
-            pane.size.x *= 0.8;
-            pane.size.y *= 0.9;
-            pane.size.z *= 1.2;
-            emit!(window, pane.instance());
+            emit!(window, pane(scope, 0.8, 0.9));
         }
     }
 
@@ -133,11 +138,7 @@ generator! {
         tags { window }
         |scope| {
             emit!(wall, scope.instance());
-            let mut pane = scope;
-            pane.size.x *= 0.85;
-            pane.size.y *= 0.85;
-            pane.size.z *= 1.2;
-            emit!(window, pane.instance());
+            emit!(window, pane(scope, 0.85, 0.85));
         }
     }
 
