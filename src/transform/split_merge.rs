@@ -623,6 +623,13 @@ impl Transformation {
             return;
         };
         let fill = &made[side].fills[gap];
+        if fill.is_empty() {
+            // The design left no gap here, the blend does: one spacer.
+            if let Some(work) = self.spacer_work(made, None, scope) {
+                queue.push_back(work);
+            }
+            return;
+        }
         let sizes: Vec<SplitSize> = fill.iter().map(|&(_, l)| SplitSize::Relative(l)).collect();
         for (entry, part) in scope.split(axis, &sizes) {
             if let Some(k) = fill[entry].0 {
