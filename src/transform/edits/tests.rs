@@ -230,6 +230,16 @@ proptest! {
         prop_assert!((total - p.cost).abs() < 1e-4, "{} vs {}", total, p.cost);
     }
 
+    /// The bound only speeds the search up: A* finds paths as cheap as
+    /// Dijkstra's algorithm without it.
+    #[test]
+    fn the_bound_keeps_paths_cheapest(src in string(1, 7), dst in string(2, 7), same in any::<bool>()) {
+        let dst: Vec<L> = if same { dst.iter().map(|&(x, _)| (x, 1)).collect() } else { dst };
+        let fast = edit_path(&src, &dst, matches).unwrap();
+        let reference = path_between(&src, &dst, matches, false).unwrap();
+        prop_assert!((fast.cost - reference.cost).abs() < 1e-4, "{} vs {}", fast.cost, reference.cost);
+    }
+
     /// Between palindromes that mirrored edits connect, the path keeps
     /// every string a palindrome.
     #[test]
