@@ -115,6 +115,13 @@ struct Layout {
     fills: Option<usize>,
 }
 
+/// The statistics a merged split is laid out from: the two splits being
+/// merged, and the designs' whole derivations.
+struct Stats<'a> {
+    local: [SplitStats; 2],
+    global: &'a [SplitStats; 2],
+}
+
 /// Edit paths between split strings, found once per pair of strings.
 #[derive(Default)]
 pub(crate) struct EditCache(Mutex<HashMap<PathKey, PathResult>>);
@@ -422,24 +429,23 @@ impl Transformation {
 
     /// The length of symbol `s` on average where its design splits (this
     /// split first), or of its match in the other design if `s` has none.
-    fn average_length(&self, s: Sym, made: &[Made; 2], global: &[SplitStats; 2]) -> Option<f32> {
+    fn average_length(s: Sym, stats: &Stats<'_>) -> Option<f32> {
         let side = usize::from(s.second);
-        let local = SplitStats::of(&made[side]);
-        [&local, &global[side]]
+        [&stats.local[side], &stats.global[side]]
             .iter()
             .find_map(|t| t.lengths.get(&s).and_then(|m| m.get()))
     }
 
     /// The length of a symbol matching `s` in the other design.
-    fn partner_length(&self, s: Sym, made: &[Made; 2], global: &[SplitStats; 2]) -> Option<f32> {
+    fn partner_length(&self, s: Sym, made: &[Made; 2], stats: &Stats<'_>) -> Option<f32> {
         let other = usize::from(!s.second);
         made[other]
             .parts
             .iter()
             .map(|p| p.sym)
-            .chain(global[other].lengths.keys().copied())
+            .chain(stats.global[other].lengths.keys().copied())
             .find(|&o| self.corresponds(o, s))
-            .and_then(|o| self.average_length(o, made, global))
+            .and_then(|o| Self::average_length(o, stats))
     }
 
     /// The lengths of `string`'s parts and the gaps around them (before
@@ -448,7 +454,10 @@ impl Transformation {
     /// lengths and gaps, blended with the other's where both do; else the
     /// averages of the designs' splits (thesis §5.4.4).
     fn lengths_and_gaps(&self, string: &[Sym], w: f32, made: &[Made; 2]) -> Layout {
-        let global = self.split_stats();
+        let stats = Stats {
+            local: [SplitStats::of(&made[0]), SplitStats::of(&made[1])],
+            global: self.split_stats(),
+        };
         let aligned = |side: usize| {
             let parts = &made[side].parts;
             parts.len() == string.len()
@@ -483,9 +492,9 @@ impl Transformation {
                         // The other design's length for this symbol: its
                         // own if it is the other's, else its match's.
                         let other = if usize::from(s.second) == side {
-                            self.partner_length(s, made, global)
+                            self.partner_length(s, made, &stats)
                         } else {
-                            self.average_length(s, made, global)
+                            Self::average_length(s, &stats)
                         };
                         let p = other.unwrap_or(l);
                         if side == 0 { lerp(l, p) } else { lerp(p, l) }
@@ -498,7 +507,7 @@ impl Transformation {
                 }
             }
             (false, false) => {
-                let (lengths, gaps) = self.average_layout(string, w, made, global);
+                let (lengths, gaps) = self.average_layout(string, w, made, &stats);
                 Layout {
                     lengths,
                     gaps,
@@ -516,18 +525,17 @@ impl Transformation {
         string: &[Sym],
         w: f32,
         made: &[Made; 2],
-        global: &[SplitStats; 2],
+        stats: &Stats<'_>,
     ) -> (Vec<f32>, Vec<f32>) {
-        let local = [SplitStats::of(&made[0]), SplitStats::of(&made[1])];
+        let (local, global) = (&stats.local, stats.global);
         let tables = [&local[0], &local[1], &global[0], &global[1]];
         let lengths: Vec<f32> = string
             .iter()
             .map(|&s| {
-                let own = self
-                    .average_length(s, made, global)
+                let own = Self::average_length(s, stats)
                     .or_else(|| tables.iter().find_map(|t| t.all_lengths.get()))
                     .unwrap_or(1.0);
-                match self.partner_length(s, made, global) {
+                match self.partner_length(s, made, stats) {
                     Some(p) if s.second => p + (own - p) * w,
                     Some(p) => own + (p - own) * w,
                     None => own,
