@@ -6,7 +6,7 @@ use std::collections::{HashMap, VecDeque};
 
 use crate::glam::{Affine3A, Vec3};
 
-use crate::express::{Instance, Instances, ShapeId};
+use crate::express::{Instance, Instances, Scope, ShapeId};
 use crate::graph::NodeId;
 
 use super::blend::{Pivot, blend_instances, blend_scopes, scaled_about};
@@ -87,16 +87,41 @@ pub(super) enum Work {
         sb: DynState,
         m: usize,
     },
-    /// An unpaired shape of one design, derived by that design alone and
-    /// scaled by `fade` about `about`.
-    Single {
+    /// A shape of one design alone.
+    Single(Single),
+}
+
+/// A shape of one design (the second if `second`), gene `pos` of node
+/// `node` from `state`, derived by that design alone and scaled by `fade`
+/// about `about`.
+pub(super) struct Single {
+    pub(super) second: bool,
+    pub(super) pos: u32,
+    pub(super) state: DynState,
+    pub(super) fade: f32,
+    pub(super) about: Vec3,
+    pub(super) node: NodeId,
+}
+
+impl Single {
+    /// Gene `pos` (of node `node`) of one design, shown whole in `scope`:
+    /// a part of a merged split that the other design has no match for.
+    pub(super) fn whole(
         second: bool,
         pos: u32,
-        state: DynState,
-        fade: f32,
-        about: Vec3,
+        state: &DynState,
+        scope: Scope,
         node: NodeId,
-    },
+    ) -> Work {
+        Work::Single(Self {
+            second,
+            pos,
+            state: state.with_scope(scope),
+            fade: 1.0,
+            about: scope.origin(),
+            node,
+        })
+    }
 }
 
 /// What one design makes of a matched shape (Alg. 5.1): instances, and the
@@ -153,22 +178,7 @@ impl Transformation {
         let mut scratch = Instances::default();
         while let Some(work) = queue.pop_front() {
             match work {
-                Work::Single {
-                    second,
-                    pos,
-                    state,
-                    fade,
-                    about,
-                    node,
-                } => {
-                    self.derive_single(
-                        (second, pos, node),
-                        &*state,
-                        (fade, about),
-                        &mut scratch,
-                        out,
-                    );
-                }
+                Work::Single(single) => self.derive_single(&single, &mut scratch, out),
                 Work::Pair {
                     a: pa,
                     b: pb,
@@ -188,17 +198,23 @@ impl Transformation {
     /// Derives a shape of one design alone, scaled by `fade` about `about`.
     pub(super) fn derive_single(
         &self,
-        (second, pos, node): (bool, u32, NodeId),
-        state: &dyn StateObj,
-        (fade, about): (f32, Vec3),
+        single: &Single,
         scratch: &mut Instances,
         out: &mut Vec<Placed>,
     ) {
+        let Single {
+            second,
+            pos,
+            ref state,
+            fade,
+            about,
+            node,
+        } = *single;
         scratch.0.clear();
         let design = self.design(second);
         design
             .stepper()
-            .subtree(design.chromosome(), pos, state, scratch);
+            .subtree(design.chromosome(), pos, &**state, scratch);
         let source = Source::one(second, node);
         out.extend(scratch.0.iter().map(|i| Placed {
             shape: self.shape_of(second, i.shape),
@@ -405,14 +421,14 @@ impl Transformation {
                 if let Some(fade) = self.fade(second, w, switched) {
                     // It grows out of (shrinks into) where its subtree starts.
                     let first = self.first_box(second, *pos, &**state);
-                    queue.push_back(Work::Single {
+                    queue.push_back(Work::Single(Single {
                         second,
                         pos: *pos,
                         about: growth_point(pivot, &first, parent_centre),
                         state: state.clone_box(),
                         fade,
                         node: *node,
-                    });
+                    }));
                 }
             }
         }

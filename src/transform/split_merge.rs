@@ -18,7 +18,7 @@ use crate::express::{Instances, Scope, SplitSize};
 use crate::graph::{Axis, NodeId};
 
 use super::Transformation;
-use super::coderive::Work;
+use super::coderive::{Single, Work};
 use super::design::DynState;
 use super::edits::{EditError, EditPath, edit_path};
 
@@ -388,14 +388,7 @@ impl Transformation {
                     m: self.matches.of(a.2, b.2).expect("paired parts match"),
                 }
             }
-            None => Work::Single {
-                second: sym.second,
-                pos: own.0,
-                state: own.1.with_scope(scope),
-                fade: 1.0,
-                about: scope.origin(),
-                node: sym.node,
-            },
+            None => Single::whole(sym.second, own.0, &own.1, scope, sym.node),
         }
     }
 
@@ -686,30 +679,12 @@ impl Transformation {
                         sb: sb.with_scope(scope),
                         m,
                     }),
-                    None => Some(self.single_spacer(false, *pa, sa, scope, na)),
+                    None => Some(Single::whole(false, *pa, sa, scope, na)),
                 }
             }
-            (Some((p, s)), None) => Some(self.single_spacer(false, *p, s, scope, node(false, *p))),
-            (None, Some((p, s))) => Some(self.single_spacer(true, *p, s, scope, node(true, *p))),
+            (Some((p, s)), None) => Some(Single::whole(false, *p, s, scope, node(false, *p))),
+            (None, Some((p, s))) => Some(Single::whole(true, *p, s, scope, node(true, *p))),
             (None, None) => None,
-        }
-    }
-
-    fn single_spacer(
-        &self,
-        second: bool,
-        pos: u32,
-        state: &DynState,
-        scope: Scope,
-        node: NodeId,
-    ) -> Work {
-        Work::Single {
-            second,
-            pos,
-            state: state.with_scope(scope),
-            fade: 1.0,
-            about: scope.origin(),
-            node,
         }
     }
 }

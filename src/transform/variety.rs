@@ -211,20 +211,7 @@ impl Variety {
                             (step.hi, b, sb),
                         ));
                     }
-                    Work::Single {
-                        second,
-                        pos,
-                        state,
-                        fade,
-                        about,
-                        node,
-                    } => t.derive_single(
-                        (second, pos, node),
-                        &*state,
-                        (fade, about),
-                        &mut scratch,
-                        &mut placed,
-                    ),
+                    Work::Single(single) => t.derive_single(&single, &mut scratch, &mut placed),
                 }
             }
             out.extend(placed.drain(..).map(|p| Placed {
