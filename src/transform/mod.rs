@@ -264,7 +264,8 @@ impl Transformation {
             });
         }
         self.spacer = tag.to_string();
-        self.forget();
+        self.forget_partners();
+        self.splits = split_merge::SplitMemory::default();
         Ok(self)
     }
 
@@ -274,17 +275,24 @@ impl Transformation {
         &self.spacer
     }
 
-    /// Forgets what was found for the old settings or matches.
-    fn forget(&mut self) {
+    /// Forgets the partners chosen (they depend on the settings, the
+    /// matches and the timelines).
+    fn forget_partners(&mut self) {
         self.pairings = std::sync::OnceLock::new();
-        self.splits = split_merge::SplitMemory::default();
+    }
+
+    /// Forgets the partners and the edit paths (which depend on the
+    /// matches); the split statistics depend on the spacer alone.
+    fn forget_matched(&mut self) {
+        self.forget_partners();
+        self.splits.forget_paths();
     }
 
     /// The same transformation with other settings.
     #[must_use]
     pub fn with_settings(mut self, settings: Settings) -> Self {
         self.settings = settings;
-        self.forget();
+        self.forget_partners();
         self
     }
 
@@ -314,13 +322,13 @@ impl Transformation {
 
     /// Adds the match of the first generator's node `a` with the second's `b`.
     pub fn add_match(&mut self, a: &str, b: &str) -> Result<(), TransformError> {
-        self.forget();
+        self.forget_matched();
         self.matches.add(self.a.graph(), self.b.graph(), a, b)
     }
 
     /// Removes the match of `a` with `b`.
     pub fn remove_match(&mut self, a: &str, b: &str) -> Result<(), TransformError> {
-        self.forget();
+        self.forget_matched();
         self.matches.remove(self.a.graph(), self.b.graph(), a, b)
     }
 
@@ -331,7 +339,7 @@ impl Transformation {
         b: &str,
         timeline: Timeline,
     ) -> Result<(), TransformError> {
-        self.forget();
+        self.forget_partners();
         self.matches
             .set_timeline(self.a.graph(), self.b.graph(), a, b, timeline)
     }
@@ -339,7 +347,7 @@ impl Transformation {
     /// Sets the timeline of every match.
     pub fn set_all_timelines(&mut self, timeline: Timeline) -> Result<(), TransformError> {
         self.matches.set_all_timelines(timeline)?;
-        self.forget();
+        self.forget_partners();
         Ok(())
     }
 

@@ -148,6 +148,13 @@ pub(crate) struct SplitMemory {
     paths: EditCache,
 }
 
+impl SplitMemory {
+    /// Forgets the edit paths (the matches changed).
+    pub(crate) fn forget_paths(&mut self) {
+        self.paths = EditCache::default();
+    }
+}
+
 impl Transformation {
     fn is_spacer(&self, second: bool, node: NodeId) -> bool {
         self.design(second)
