@@ -109,7 +109,7 @@ fn run_on_the_builtin_experiment_writes_consistent_results() {
     let summary = check_consistent(&out);
     assert_eq!(summary["generations"], 15);
     assert_eq!(summary["seed"], 3);
-    assert_eq!(summary["method"], "ga");
+    assert_eq!(summary["method"], "tandem");
     let best = summary["best_fitness"].as_f64().unwrap();
     assert!(best > 0.0 && best <= 2.0, "{best}");
     assert_eq!(curve(&out.join("curve.csv")).len(), 16);

@@ -309,8 +309,9 @@ pub struct CompareArgs {
     /// The experiment.
     #[command(flatten)]
     pub experiment: ExperimentArgs,
-    /// Methods to compare, comma-separated (ga, smc, sosmc, rjmcmc, islands, hybrid, tandem).
-    #[arg(long, value_delimiter = ',', value_parser = parse_method, default_value = "ga,smc,sosmc,rjmcmc")]
+    /// Methods to compare, comma-separated (ga, smc, sosmc, rjmcmc, islands, hybrid, tandem);
+    /// default: the default method (tandem) and the paper's four.
+    #[arg(long, value_delimiter = ',', value_parser = parse_method, default_value = "tandem,ga,smc,sosmc,rjmcmc")]
     pub methods: Vec<Method>,
     /// Runs per method (seeds seed, seed + 1, ...).
     #[arg(long, default_value_t = 3)]

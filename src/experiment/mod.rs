@@ -163,6 +163,12 @@ pub enum Method {
 }
 
 impl Method {
+    /// The method an experiment that names none runs, `run` without
+    /// `--method` (unless the experiment names one) and the first of
+    /// `compare`'s default set: the tandem, the best across the targets
+    /// measured in `reproduction.md`.
+    pub const DEFAULT: Method = Method::Tandem;
+
     /// All methods: the paper's, in its order, then shapegen's.
     pub const ALL: [Method; 7] = [
         Method::Ga,

@@ -38,7 +38,8 @@ builtin = "ship"
 fn the_builtin_experiment_loads() {
     let e = Experiment::builtin();
     assert_eq!(e.generator(), "spaceship");
-    assert_eq!(e.default_method(), Method::Ga);
+    assert_eq!(e.default_method(), Method::DEFAULT);
+    assert_eq!(Method::DEFAULT, Method::Tandem);
     assert_eq!(e.optimum(), Some(2.0));
     assert_eq!(e.graph().limits().max_len, Some(100));
     assert!(e.budget(Method::Ga).is_some());

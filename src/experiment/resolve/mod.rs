@@ -105,7 +105,7 @@ pub(super) fn experiment(
         inputs: std::cell::RefCell::new(Vec::new()),
     };
     let default_method = match &parsed.method {
-        None => Method::Ga,
+        None => Method::DEFAULT,
         Some(m) => m
             .get_ref()
             .parse()
