@@ -13,7 +13,7 @@ use super::plot::{self, Series};
 use super::{Cli, CliError, seconds, thread_pool};
 use crate::experiment::{Experiment, Method};
 use crate::genome::Chromosome;
-use crate::optimize::{Budget, GenerationStats, Interruptible, RunResult};
+use crate::optimize::{Budget, GenerationStats, Interruptible, RunResult, StopReason};
 use crate::output::{self, Row, mean_iou, write_json};
 use crate::score::write_atomically;
 
@@ -86,6 +86,43 @@ pub struct MethodSummary {
     pub best: f64,
     /// The seed of the best run (its model is in `<method>/`).
     pub best_seed: u64,
+    /// The lowest final best fitness of a run.
+    pub worst: f64,
+    /// The median of the runs' final best fitness.
+    pub median: f64,
+    /// Every run, in the order they ran.
+    pub each_run: Vec<RunSummary>,
+}
+
+/// One run of a method in `summary.json`: how far it got and why it ended.
+#[derive(Debug, Serialize)]
+pub struct RunSummary {
+    /// Its seed.
+    pub seed: u64,
+    /// Its final best fitness.
+    pub best: f64,
+    /// Seconds it ran (less than the budget when it stopped early).
+    pub seconds: f64,
+    /// Evaluations it made.
+    pub evaluations: u64,
+    /// Generations it ran.
+    pub generations: u64,
+    /// Why it ended (`wall_time`: the budget; `exhausted`: the method had
+    /// nothing left to do, as SMC once every particle is complete).
+    pub stop: StopReason,
+}
+
+impl RunSummary {
+    fn of(run: &Run) -> Self {
+        Self {
+            seed: run.seed,
+            best: run.result.best_fitness,
+            seconds: run.result.elapsed.as_secs_f64(),
+            evaluations: run.result.evaluations,
+            generations: run.result.generations,
+            stop: run.result.stop,
+        }
+    }
 }
 
 /// When a method's mean curve first reached the `--goal` fitness: the mean
@@ -199,11 +236,13 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
             drop(observer);
             if !args.quiet {
                 errln!(
-                    "  {method:<6} run {} (seed {seed}): best {:.4} after {} generations, {} evaluations",
+                    "  {method:<6} run {} (seed {seed}): best {:.4} after {} generations, {} evaluations, {:.2} s ({})",
                     r + 1,
                     result.best_fitness,
                     result.generations,
-                    result.evaluations
+                    result.evaluations,
+                    result.elapsed.as_secs_f64(),
+                    stop_words(result.stop)
                 );
             }
             let iou_at = iou_at(&experiment, &improvements, args.seconds);
@@ -231,6 +270,12 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
     let mut curves = BTreeMap::new();
     let mut finals = BTreeMap::new();
     for (&method, runs) in &all {
+        // A method's curve ends where its last run ended (SMC, say, can
+        // finish long before the budget): the grid up to there, then that
+        // moment.
+        let end = last_end(runs).min(args.seconds);
+        let mut times: Vec<f64> = times.iter().copied().filter(|&t| t < end).collect();
+        times.push(end);
         let stats: Vec<(f64, f64, usize)> = times.iter().map(|&t| at(runs, t)).collect();
         for (t, (mean, std, n)) in times.iter().zip(&stats) {
             let _ = writeln!(
@@ -300,6 +345,7 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
             .iter()
             .max_by(|a, b| a.result.best_fitness.total_cmp(&b.result.best_fitness))
             .expect("at least one run");
+        let (worst, median) = worst_median(runs.iter().map(|r| r.result.best_fitness));
         let n = runs.len() as f64;
         summary.methods.insert(
             method.name().to_string(),
@@ -329,6 +375,9 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
                     / n,
                 best: best_run.result.best_fitness,
                 best_seed: best_run.seed,
+                worst,
+                median,
+                each_run: runs.iter().map(RunSummary::of).collect(),
             },
         );
         let dir = out.join(method.name());
@@ -380,11 +429,12 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
     stage.publish()?;
     let out = &args.out;
     outln!(
-        "{:<8} {:>12} {:>12} {:>12}   {:>6} {:>6} {:>6} {:>12}",
+        "{:<8} {:>12} {:>12} {:>12} {:>8}   {:>6} {:>6} {:>6} {:>12}",
         "method",
         "10%",
         "50%",
         "100%",
+        "worst",
         "IoU10%",
         "IoU50%",
         "IoU",
@@ -397,15 +447,21 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
         };
         let iou = |k: &str| m.iou_at[k].map_or_else(|| "-".to_string(), |v| format!("{v:.3}"));
         outln!(
-            "{name:<8} {:>12} {:>12} {:>12}   {:>6} {:>6} {:>6} {:>12.0}",
+            "{name:<8} {:>12} {:>12} {:>12} {:>8.3}   {:>6} {:>6} {:>6} {:>12.0}",
             cell("10%"),
             cell("50%"),
             cell("100%"),
+            m.worst,
             iou("10%"),
             iou("50%"),
             iou("100%"),
             m.evaluations
         );
+    }
+    for (name, m) in &summary.methods {
+        if let Some(line) = early_stops(&m.each_run, args.seconds) {
+            outln!("{name}: {line}");
+        }
     }
     for (name, m) in &summary.methods {
         if let Some(g) = &m.goal {
@@ -423,6 +479,72 @@ pub(super) fn compare(cli: &Cli, args: &CompareArgs) -> Result<(), CliError> {
         out.display()
     );
     Ok(())
+}
+
+/// Why a run stopped, in words.
+fn stop_words(stop: StopReason) -> &'static str {
+    match stop {
+        StopReason::Generations => "generation limit",
+        StopReason::Evaluations => "evaluation limit",
+        StopReason::WallTime => "time budget",
+        StopReason::TargetFitness => "reached the target fitness",
+        StopReason::Observer => "interrupted",
+        StopReason::Exhausted => "finished: nothing left to do",
+    }
+}
+
+/// A line on the runs that ended before `budget` seconds for another
+/// reason than the budget (none if every run used its budget).
+fn early_stops(runs: &[RunSummary], budget: f64) -> Option<String> {
+    let early: Vec<&RunSummary> = runs
+        .iter()
+        .filter(|r| r.stop != StopReason::WallTime)
+        .collect();
+    if early.is_empty() {
+        return None;
+    }
+    let each: Vec<String> = early
+        .iter()
+        .map(|r| {
+            format!(
+                "seed {} after {:.2} s ({})",
+                r.seed,
+                r.seconds,
+                stop_words(r.stop)
+            )
+        })
+        .collect();
+    Some(format!(
+        "{} of {} run(s) ended before the {budget} s budget: {}",
+        early.len(),
+        runs.len(),
+        each.join(", ")
+    ))
+}
+
+/// When the last of `runs` ended, in seconds.
+fn last_end(runs: &[Run]) -> f64 {
+    runs.iter()
+        .map(|r| r.result.elapsed.as_secs_f64())
+        .fold(0.0, f64::max)
+}
+
+/// The lowest and the median of `values` (NaN counts as lowest; NaN for none).
+fn worst_median(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let mut v: Vec<f64> = values
+        .map(|x| if x.is_nan() { f64::NEG_INFINITY } else { x })
+        .collect();
+    if v.is_empty() {
+        return (f64::NAN, f64::NAN);
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    let median = if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        (v[n / 2 - 1] + v[n / 2]) / 2.0
+    };
+    (v[0], median)
 }
 
 /// Mean, standard deviation and count of the runs' best-so-far at time `t`
@@ -610,5 +732,33 @@ mod tests {
         assert_eq!(at(&runs, 1.0), (1.5, 0.5, 2));
         assert_eq!(at(&runs, 9.0), (4.0, 1.0, 2));
         assert!(mean_std(std::iter::empty()).0.is_nan());
+    }
+
+    #[test]
+    fn the_worst_and_the_median_of_the_finals() {
+        assert_eq!(worst_median([3.0, 1.0, 2.0].into_iter()), (1.0, 2.0));
+        assert_eq!(worst_median([4.0, 1.0, 2.0, 3.0].into_iter()), (1.0, 2.5));
+        let (worst, median) = worst_median([f64::NAN, 1.0].into_iter());
+        assert_eq!((worst, median), (f64::NEG_INFINITY, f64::NEG_INFINITY));
+        assert!(worst_median(std::iter::empty()).0.is_nan());
+    }
+
+    #[test]
+    fn runs_that_end_early_are_named_with_their_reason() {
+        let mut early = run(vec![row(0.02, 1.0)]);
+        early.result.stop = StopReason::Exhausted;
+        early.result.elapsed = std::time::Duration::from_millis(20);
+        early.seed = 7;
+        let mut full = run(vec![row(10.0, 1.0)]);
+        full.result.elapsed = std::time::Duration::from_secs(10);
+        let runs = [RunSummary::of(&full), RunSummary::of(&early)];
+        assert_eq!(
+            early_stops(&runs, 10.0).as_deref(),
+            Some(
+                "1 of 2 run(s) ended before the 10 s budget: seed 7 after 0.02 s (finished: nothing left to do)"
+            )
+        );
+        assert_eq!(early_stops(&runs[..1], 10.0), None);
+        assert_eq!(last_end(&[full, early]), 10.0);
     }
 }

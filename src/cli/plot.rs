@@ -162,6 +162,13 @@ fn draw(
                 PathElement::new([(x, y), (x + 20, y)], colour.stroke_width(2))
             });
         }
+        // A curve that ends before the budget (every run stopped early)
+        // ends in a dot, so it does not read as cut off by the picture.
+        if let Some(&(t, m, _)) = s.points.last()
+            && t < seconds * 0.99
+        {
+            chart.draw_series(std::iter::once(Circle::new((t, m), 4, colour.filled())))?;
+        }
     }
     if text {
         chart
