@@ -12,6 +12,12 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::checkpoint::{SavedChallenge, SavedChallenger};
+use super::evaluation::Candidate;
+use super::ga::GaState;
+use super::{Ga, Individual, OptimizeError};
+use crate::graph::Graph;
+
 /// The share of a population's gain since its first generation that its
 /// best must rise by within the patience to count as progress.
 pub const PROGRESS_SHARE: f64 = 0.01;
@@ -78,6 +84,250 @@ impl Stall {
     #[must_use]
     pub fn since(&self) -> u64 {
         self.since
+    }
+}
+
+/// Where a population's challengers draw their random streams: the `k`-th
+/// challenger (`k` ≥ 1) of a population draws from island
+/// `k · stride + home`, so that challengers of different populations (the
+/// islands of an island GA) never share a stream with each other or with an
+/// island.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Lineage {
+    /// The population's own island (0 for a lone GA).
+    pub home: u64,
+    /// The number of populations that start challengers (1 for a lone GA).
+    pub stride: u64,
+}
+
+impl Lineage {
+    /// A lone GA's (the GA, the hybrid's GA, the tandem's GA).
+    pub const ALONE: Self = Self { home: 0, stride: 1 };
+
+    /// The streams of challenger `k`.
+    fn island(self, k: u64) -> u64 {
+        k.saturating_mul(self.stride).saturating_add(self.home)
+    }
+}
+
+/// A GA population, its stall bookkeeping and its challenger (see the
+/// module's documentation): what the GA, each island of the island GA, the
+/// hybrid's GA phase and the tandem's GA step. With a patience of 0 it is
+/// the GA alone, draw for draw.
+pub(crate) struct Challenged {
+    /// The population that holds the GA's place.
+    pub incumbent: GaState,
+    /// The streams the incumbent breeds from.
+    island: Option<u64>,
+    lineage: Lineage,
+    /// How the incumbent progresses.
+    stall: Stall,
+    /// Challengers started so far.
+    spawned: u64,
+    /// Whether the next step draws challenger `spawned`'s first population.
+    pending: bool,
+    /// Whether the challenger takes the next step.
+    turn: bool,
+    challenger: Option<Challenger>,
+}
+
+/// A second population started when the incumbent stalled.
+struct Challenger {
+    ga: GaState,
+    stall: Stall,
+    island: u64,
+}
+
+/// Which population takes a step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Side {
+    /// The incumbent breeds.
+    Incumbent,
+    /// The challenger breeds.
+    Challenger,
+    /// A challenger's first population is drawn.
+    Fresh,
+}
+
+/// The best fitness of `models` (−∞ for none; `f64::max` passes over NaN).
+pub(crate) fn best_of(models: &[Individual]) -> f64 {
+    models
+        .iter()
+        .map(|m| m.fitness)
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
+impl Challenged {
+    /// `incumbent`, breeding from the streams of `island`, with no
+    /// challenger yet.
+    pub fn new(incumbent: GaState, island: Option<u64>, lineage: Lineage) -> Self {
+        Self {
+            stall: Stall::new(best_of(&incumbent.population)),
+            incumbent,
+            island,
+            lineage,
+            spawned: 0,
+            pending: false,
+            turn: false,
+            challenger: None,
+        }
+    }
+
+    /// Which population takes the next step: a challenger's first
+    /// population if one is due, else the challenger and the incumbent in
+    /// turn.
+    pub fn side(&self) -> Side {
+        if self.pending {
+            Side::Fresh
+        } else if self.turn && self.challenger.is_some() {
+            Side::Challenger
+        } else {
+            Side::Incumbent
+        }
+    }
+
+    /// The candidates of `side`'s step at `generation`: the incumbent's or
+    /// the challenger's children, or a new challenger's random first
+    /// population.
+    pub fn candidates(
+        &mut self,
+        ga: &Ga,
+        graph: &Graph,
+        seed: u64,
+        generation: u64,
+        side: Side,
+    ) -> Result<Vec<Candidate>, OptimizeError> {
+        Ok(match (side, &mut self.challenger) {
+            (Side::Challenger, Some(c)) => {
+                ga.next_generation(graph, &mut c.ga, seed, generation, Some(c.island))
+            }
+            (Side::Fresh, _) => {
+                ga.initial_population(graph, seed, Some(self.lineage.island(self.spawned)))?
+            }
+            _ => ga.next_generation(graph, &mut self.incumbent, seed, generation, self.island),
+        })
+    }
+
+    /// Makes `evaluated` the population of `side`, then applies the
+    /// challenge with `patience` (0: never): a stalled incumbent gets a
+    /// challenger (drawn at its next step), a challenger that overtakes the
+    /// incumbent takes its place, one that stalls below it is dropped.
+    pub fn settle(&mut self, side: Side, evaluated: Vec<Individual>, patience: u64) {
+        match side {
+            Side::Incumbent => {
+                self.incumbent.settle(evaluated);
+                if patience == 0 {
+                    return;
+                }
+                let stalled = self
+                    .stall
+                    .step(best_of(&self.incumbent.population), patience);
+                if self.challenger.is_some() {
+                    self.turn = true;
+                } else if stalled {
+                    self.spawned += 1;
+                    self.pending = true;
+                }
+                return;
+            }
+            Side::Fresh => {
+                let population = GaState::new(evaluated);
+                self.challenger = Some(Challenger {
+                    stall: Stall::new(best_of(&population.population)),
+                    ga: population,
+                    island: self.lineage.island(self.spawned),
+                });
+                self.pending = false;
+            }
+            Side::Challenger => {
+                if let Some(c) = &mut self.challenger {
+                    c.ga.settle(evaluated);
+                }
+            }
+        }
+        self.turn = false;
+        let Some(c) = &mut self.challenger else {
+            return;
+        };
+        let (best, incumbent) = (
+            best_of(&c.ga.population),
+            best_of(&self.incumbent.population),
+        );
+        let stalled = side == Side::Challenger && c.stall.step(best, patience);
+        if best > incumbent {
+            let c = self.challenger.take().expect("a challenger lives here");
+            self.incumbent = c.ga;
+            self.stall = c.stall;
+            self.island = Some(c.island);
+        } else if stalled {
+            self.challenger = None;
+            self.stall.restart_patience(incumbent);
+        }
+    }
+
+    /// The best fitness of the incumbent and the challenger.
+    pub fn best(&self) -> f64 {
+        let challenger = self
+            .challenger
+            .as_ref()
+            .map_or(f64::NEG_INFINITY, |c| best_of(&c.ga.population));
+        best_of(&self.incumbent.population).max(challenger)
+    }
+
+    /// The challenger's models (none without one).
+    pub fn challenger_models(&self) -> &[Individual] {
+        self.challenger
+            .as_ref()
+            .map_or(&[], |c| c.ga.population.as_slice())
+    }
+
+    /// The bookkeeping a checkpoint saves (the incumbent is saved apart).
+    pub fn save(&self, ga: &Ga, graph: &Graph) -> SavedChallenge {
+        SavedChallenge {
+            island: self.island,
+            stall: self.stall,
+            spawned: self.spawned,
+            pending: self.pending,
+            turn: self.turn,
+            challenger: self.challenger.as_ref().map(|c| SavedChallenger {
+                population: Box::new(ga.save_state(graph, &c.ga)),
+                stall: c.stall,
+                island: c.island,
+            }),
+        }
+    }
+
+    /// `incumbent` with the bookkeeping of `saved` (none: a population
+    /// with no challenger yet, breeding from `island`).
+    pub fn restore(
+        ga: &Ga,
+        graph: &Graph,
+        incumbent: GaState,
+        island: Option<u64>,
+        lineage: Lineage,
+        saved: Option<&SavedChallenge>,
+    ) -> Result<Self, OptimizeError> {
+        let Some(saved) = saved else {
+            return Ok(Self::new(incumbent, island, lineage));
+        };
+        let challenger = match &saved.challenger {
+            Some(c) => Some(Challenger {
+                ga: ga.restore_state(graph, &c.population)?,
+                stall: c.stall,
+                island: c.island,
+            }),
+            None => None,
+        };
+        Ok(Self {
+            incumbent,
+            island: saved.island,
+            lineage,
+            stall: saved.stall,
+            spawned: saved.spawned,
+            pending: saved.pending,
+            turn: saved.turn,
+            challenger,
+        })
     }
 }
 

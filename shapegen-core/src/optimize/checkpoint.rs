@@ -135,8 +135,9 @@ pub enum SavedState {
 /// [`TandemParams::challenge`](super::TandemParams::challenge)).
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct SavedChallenge {
-    /// The random streams (island) the GA's population draws from.
-    pub island: u64,
+    /// The random streams (island) the GA's population draws from (none:
+    /// a lone GA's own).
+    pub island: Option<u64>,
     /// How the GA's population progresses.
     pub stall: Stall,
     /// Challengers started so far (the last one drew from island `spawned`).

@@ -6,10 +6,9 @@ use std::ops::ControlFlow;
 use serde::{Deserialize, Serialize};
 
 use super::balance::Balance;
-use super::challenger::Stall;
-use super::checkpoint::{Checkpoint, SavedChallenge, SavedChallenger, SavedState};
+use super::challenger::{Challenged, Lineage, best_of};
+use super::checkpoint::{Checkpoint, SavedState};
 use super::driver::{Context, Method, Run, drive};
-use super::evaluation::Candidate;
 use super::ga::GaState;
 use super::rjmcmc::Chains;
 use super::selection::{best_distinct, rank_order};
@@ -193,88 +192,10 @@ impl Tandem {
         Rjmcmc::new(self.params.rjmcmc)
     }
 
-    /// The candidates of the GA's step by `side`: its population's or the
-    /// challenger's children, or a new challenger's random first population.
-    fn ga_candidates<F: Fitness>(
-        &self,
-        cx: &Context<'_, '_, F>,
-        state: &mut TandemState,
-        side: GaSide,
-    ) -> Result<Vec<Candidate>, OptimizeError> {
-        let (ga, generation) = (self.ga(), cx.generation());
-        let challenge = &mut state.challenge;
-        Ok(match (side, &mut challenge.challenger) {
-            (GaSide::Challenger, Some(c)) => {
-                ga.next_generation(cx.graph, &mut c.ga, cx.seed, generation, Some(c.island))
-            }
-            (GaSide::Fresh, _) => {
-                ga.initial_population(cx.graph, cx.seed, Some(challenge.spawned))?
-            }
-            _ => ga.next_generation(
-                cx.graph,
-                &mut state.ga,
-                cx.seed,
-                generation,
-                Some(challenge.island),
-            ),
-        })
-    }
-
-    /// Makes `evaluated` the population of `side`, then applies the
-    /// challenge: a stalled GA gets a challenger (drawn at its next step),
-    /// a challenger that overtakes the GA takes its place, one that stalls
-    /// below it is dropped.
-    fn settle(&self, state: &mut TandemState, side: GaSide, evaluated: Vec<Individual>) {
-        let patience = self.params.challenge;
-        let TandemState { ga, challenge, .. } = state;
-        match side {
-            GaSide::Incumbent => {
-                ga.settle(evaluated);
-                if patience == 0 {
-                    return;
-                }
-                let stalled = challenge.stall.step(best_of(&ga.population), patience);
-                if challenge.challenger.is_some() {
-                    challenge.turn = true;
-                } else if stalled {
-                    challenge.spawned += 1;
-                    challenge.pending = true;
-                }
-                return;
-            }
-            GaSide::Fresh => {
-                let population = GaState::new(evaluated);
-                challenge.challenger = Some(Challenger {
-                    stall: Stall::new(best_of(&population.population)),
-                    ga: population,
-                    island: challenge.spawned,
-                });
-                challenge.pending = false;
-            }
-            GaSide::Challenger => {
-                if let Some(c) = &mut challenge.challenger {
-                    c.ga.settle(evaluated);
-                }
-            }
-        }
-        challenge.turn = false;
-        let Some(c) = &mut challenge.challenger else {
-            return;
-        };
-        let (best, incumbent) = (best_of(&c.ga.population), best_of(&ga.population));
-        let stalled = matches!(side, GaSide::Challenger) && c.stall.step(best, patience);
-        if best > incumbent {
-            let c = challenge
-                .challenger
-                .take()
-                .expect("a challenger lives here");
-            *ga = c.ga;
-            challenge.stall = c.stall;
-            challenge.island = c.island;
-        } else if stalled {
-            challenge.challenger = None;
-            challenge.stall.restart_patience(incumbent);
-        }
+    /// The GA's population `ga`, from island 0's streams, with no
+    /// challenger yet.
+    fn fresh(ga: GaState) -> Challenged {
+        Challenged::new(ga, GA_STREAMS, Lineage::ALONE)
     }
 
     /// The exchange: the chains' best to the GA (replacing its worst), the
@@ -282,6 +203,7 @@ impl Tandem {
     fn exchange(&self, graph: &Graph, state: &mut TandemState) {
         let n = self.params.migrants;
         let TandemState { ga, chains, .. } = state;
+        let ga = &mut ga.incumbent;
         let mut by_fitness: Vec<usize> = (0..chains.chains.len()).collect();
         by_fitness.sort_by(|&a, &b| rank_order(chains.chains[a].fitness, chains.chains[b].fitness));
         let from_chains: Vec<Individual> =
@@ -322,131 +244,20 @@ impl Optimizer for Tandem {
 /// The tandem's state: the GA's population and the chains, and while the
 /// first phase runs, its particles (the GA's population is empty then).
 pub(crate) struct TandemState {
-    ga: GaState,
+    /// The GA's population, with its challenger ([`TandemParams::challenge`]).
+    ga: Challenged,
     chains: Chains,
     first: Option<(Smc, Particles)>,
     /// How the sides share the evaluations (even unless
     /// [`TandemParams::balance`]).
     balance: Balance,
-    /// The GA's stall and its challenger ([`TandemParams::challenge`]).
-    challenge: Challenge,
-}
-
-/// A tandem GA's stall bookkeeping and its challenger (see
-/// [`TandemParams::challenge`]).
-struct Challenge {
-    /// The island whose streams the GA's population draws from.
-    island: u64,
-    /// How the GA's population progresses.
-    stall: Stall,
-    /// Challengers started so far.
-    spawned: u64,
-    /// Whether the GA's next step draws challenger `spawned`'s first population.
-    pending: bool,
-    /// Whether the challenger takes the GA's next step.
-    turn: bool,
-    challenger: Option<Challenger>,
-}
-
-/// A second GA population started when the GA stalled.
-struct Challenger {
-    ga: GaState,
-    stall: Stall,
-    island: u64,
-}
-
-impl Challenge {
-    /// Which population takes the GA's next step: a challenger's first
-    /// population if one is due, else the challenger and the GA in turn.
-    fn side(&self) -> GaSide {
-        if self.pending {
-            GaSide::Fresh
-        } else if self.turn && self.challenger.is_some() {
-            GaSide::Challenger
-        } else {
-            GaSide::Incumbent
-        }
-    }
-
-    /// A GA of island 0 whose first population's best is `best`.
-    fn new(best: f64) -> Self {
-        Self {
-            island: 0,
-            stall: Stall::new(best),
-            spawned: 0,
-            pending: false,
-            turn: false,
-            challenger: None,
-        }
-    }
-
-    fn save(&self, ga: &Ga, graph: &Graph) -> SavedChallenge {
-        SavedChallenge {
-            island: self.island,
-            stall: self.stall,
-            spawned: self.spawned,
-            pending: self.pending,
-            turn: self.turn,
-            challenger: self.challenger.as_ref().map(|c| SavedChallenger {
-                population: Box::new(ga.save_state(graph, &c.ga)),
-                stall: c.stall,
-                island: c.island,
-            }),
-        }
-    }
-
-    fn restore(ga: &Ga, graph: &Graph, saved: &SavedChallenge) -> Result<Self, OptimizeError> {
-        let challenger = match &saved.challenger {
-            Some(c) => Some(Challenger {
-                ga: ga.restore_state(graph, &c.population)?,
-                stall: c.stall,
-                island: c.island,
-            }),
-            None => None,
-        };
-        Ok(Self {
-            island: saved.island,
-            stall: saved.stall,
-            spawned: saved.spawned,
-            pending: saved.pending,
-            turn: saved.turn,
-            challenger,
-        })
-    }
-}
-
-/// Which of the GA's populations takes a step.
-#[derive(Clone, Copy)]
-enum GaSide {
-    /// The GA's population breeds.
-    Incumbent,
-    /// The challenger breeds.
-    Challenger,
-    /// A challenger's first population is drawn.
-    Fresh,
-}
-
-/// The best fitness of `models` (−∞ for none; `f64::max` passes over NaN).
-fn best_of(models: &[Individual]) -> f64 {
-    models
-        .iter()
-        .map(|m| m.fitness)
-        .fold(f64::NEG_INFINITY, f64::max)
 }
 
 impl TandemState {
     /// The best fitness of the GA's populations (with its challenger's)
     /// and of the chains (−∞ for none; `f64::max` passes over NaN).
     fn bests(&self) -> [f64; 2] {
-        let challenger = self
-            .challenge
-            .challenger
-            .as_ref()
-            .map_or(f64::NEG_INFINITY, |c| best_of(&c.ga.population));
-        [
-            best_of(&self.ga.population).max(challenger),
-            best_of(&self.chains.chains),
-        ]
+        [self.ga.best(), best_of(&self.chains.chains)]
     }
 
     /// Both sides' models, best first (stable: the GA's, or the first
@@ -454,11 +265,9 @@ impl TandemState {
     fn merged(&self, graph: &Graph) -> Vec<Individual> {
         let mut all: Vec<Individual> = match &self.first {
             Some((smc, particles)) => smc.report(graph, particles).into_owned(),
-            None => self.ga.population.clone(),
+            None => self.ga.incumbent.population.clone(),
         };
-        if let Some(c) = &self.challenge.challenger {
-            all.extend(c.ga.population.iter().cloned());
-        }
+        all.extend(self.ga.challenger_models().iter().cloned());
         all.extend(self.chains.chains.iter().cloned());
         all.sort_by(|a, b| rank_order(a.fitness, b.fitness));
         all
@@ -487,11 +296,10 @@ impl Method for Tandem {
             let smc = Smc::new(params);
             let particles = smc.init(cx)?;
             return Ok(TandemState {
-                ga: GaState::new(Vec::new()),
+                ga: Self::fresh(GaState::new(Vec::new())),
                 chains,
                 first: Some((smc, particles)),
                 balance: Balance::new(),
-                challenge: Challenge::new(f64::NEG_INFINITY),
             });
         }
         let initial = self
@@ -499,8 +307,7 @@ impl Method for Tandem {
             .initial_population(cx.graph, cx.seed, GA_STREAMS)?;
         let ga = GaState::new(cx.evaluate_within_budget(initial));
         Ok(TandemState {
-            challenge: Challenge::new(best_of(&ga.population)),
-            ga,
+            ga: Self::fresh(ga),
             chains,
             first: None,
             balance: Balance::new(),
@@ -531,38 +338,40 @@ impl Method for Tandem {
             };
             let smc = Smc::new(params);
             return Ok(TandemState {
-                ga: GaState::new(Vec::new()),
+                ga: Self::fresh(GaState::new(Vec::new())),
                 chains,
                 first: Some((smc, smc.restore_state(graph, ga)?)),
                 balance,
-                challenge: Challenge::new(f64::NEG_INFINITY),
             });
         }
-        let ga = self.ga().restore_state(graph, ga)?;
-        let challenge = match challenge {
-            Some(saved) => Challenge::restore(&self.ga(), graph, saved)?,
-            None => Challenge::new(best_of(&ga.population)),
-        };
+        let incumbent = self.ga().restore_state(graph, ga)?;
+        let ga = Challenged::restore(
+            &self.ga(),
+            graph,
+            incumbent,
+            GA_STREAMS,
+            Lineage::ALONE,
+            challenge.as_ref(),
+        )?;
         Ok(TandemState {
             ga,
             chains,
             first: None,
             balance,
-            challenge,
         })
     }
 
     fn save(&self, graph: &Graph, state: &TandemState) -> SavedState {
         let ga = match &state.first {
             Some((smc, particles)) => smc.save(graph, particles),
-            None => self.ga().save_state(graph, &state.ga),
+            None => self.ga().save_state(graph, &state.ga.incumbent),
         };
         SavedState::Tandem {
             ga: Box::new(ga),
             chains: Box::new(self.rjmcmc().save_state(graph, &state.chains)),
             balance: self.params.balance.then_some(state.balance),
             challenge: (self.params.challenge > 0 && state.first.is_none())
-                .then(|| state.challenge.save(&self.ga(), graph)),
+                .then(|| state.ga.save(&self.ga(), graph)),
         }
     }
 
@@ -588,8 +397,7 @@ impl Method for Tandem {
             }
             if smc.exhausted(particles) {
                 let models = smc.report(cx.graph, particles).into_owned();
-                state.ga = self.ga().population_from(cx, &models, GA_STREAMS)?;
-                state.challenge = Challenge::new(best_of(&state.ga.population));
+                state.ga = Self::fresh(self.ga().population_from(cx, &models, GA_STREAMS)?);
                 state.first = None;
             }
             return Ok(ControlFlow::Continue(()));
@@ -608,9 +416,11 @@ impl Method for Tandem {
             Default::default()
         };
         let chain_count = candidates.len();
-        let side = ga_steps.then(|| state.challenge.side());
+        let side = ga_steps.then(|| state.ga.side());
         let mut next = match side {
-            Some(side) => self.ga_candidates(cx, state, side)?,
+            Some(side) => state
+                .ga
+                .candidates(&self.ga(), cx.graph, cx.seed, generation, side)?,
             None => Vec::new(),
         };
         next.append(&mut candidates);
@@ -620,7 +430,7 @@ impl Method for Tandem {
         let chains = evaluated.split_off(evaluated.len() - chain_count);
         state.balance.spent(evaluated.len(), chain_count);
         if let Some(side) = side {
-            self.settle(state, side, evaluated);
+            state.ga.settle(side, evaluated, self.params.challenge);
         }
         if chains_step {
             rjmcmc.accept(cx, &mut state.chains, chains, &proposals);
