@@ -220,6 +220,37 @@ fn every_optimizer_resumes_bit_identically() {
             check(&Tandem::new(params), seed);
             check_with(&Tandem::new(params), &graph, &flat, seed);
         }
+        // The GA's, the islands' and the hybrid's challengers alike.
+        for patience in [1, 2, 5] {
+            let ga = GaParams {
+                challenge: patience,
+                ..ga
+            };
+            check(&Ga::new(ga), seed);
+            check_with(&Ga::new(ga), &graph, &flat, seed);
+            let islands = IslandGa::new(IslandParams {
+                ga: GaParams {
+                    population: 10,
+                    elites: 2,
+                    ..ga
+                },
+                islands: 3,
+                interval: 2,
+                migrants: 1,
+                topology: Topology::Random,
+            });
+            check(&islands, seed);
+            check_with(&islands, &graph, &flat, seed);
+            let hybrid = Hybrid::new(HybridParams {
+                ga,
+                rjmcmc: RjmcmcParams::paper(6, init),
+                patience: 8,
+                patience_share: HYBRID_PATIENCE_SHARE,
+                first_phase: None,
+            });
+            check(&hybrid, seed);
+            check_with(&hybrid, &graph, &flat, seed);
+        }
         let due = |patience| {
             let params = TandemParams {
                 challenge: patience,

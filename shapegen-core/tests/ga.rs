@@ -135,6 +135,55 @@ fn adaptive_split_is_deterministic_whatever_the_thread_count() {
     assert_ne!(one.population, plain.population);
 }
 
+fn ga_with_challengers(patience: u64) -> Ga {
+    Ga::new(GaParams {
+        challenge: patience,
+        ..ga().params
+    })
+}
+
+#[test]
+fn challengers_reach_the_optimum_and_beat_random_search() {
+    crate::common::reaches_the_blocks_optimum(|seed| ga_with_challengers(seed), &[1, 2, 3]);
+}
+
+#[test]
+fn challengers_are_deterministic_whatever_the_thread_count() {
+    let (one, other) =
+        crate::common::same_result_whatever_the_thread_count(&ga_with_challengers(1), 60);
+    assert_ne!(one.best, other.best);
+}
+
+/// On a flat fitness a GA with challengers stalls, draws a challenger,
+/// steps in turn with it and drops it when it stalls as long; the paper's
+/// GA (patience 0) saves no challenge at all.
+#[test]
+fn a_stalled_ga_steps_in_turn_with_its_challenger() {
+    use shapegen_core::optimize::SavedState;
+    let graph = shapegen_core::demo::blocks_graph();
+    let flat = FnFitness(|_: &Chromosome| 0.0);
+    let lives = |ga: Ga| {
+        let mut seen = Vec::new();
+        let mut observer = |s: &GenerationStats<'_>| {
+            let SavedState::Population { challenge, .. } = s.checkpoint().state else {
+                panic!("a GA population");
+            };
+            seen.push(challenge.map(|c| c.challenger.is_some()));
+            std::ops::ControlFlow::Continue(())
+        };
+        ga.run(&graph, &flat, &Budget::generations(14), 5, &mut observer)
+            .unwrap();
+        seen
+    };
+    // Generations 1–3 stall the GA; 4 draws the challenger, which steps in
+    // turn with the GA until its own third stalled step (10) drops it.
+    let seen = lives(ga_with_challengers(3));
+    assert_eq!(seen[..4], [Some(false); 4]);
+    assert_eq!(seen[4..10], [Some(true); 6]);
+    assert_eq!(seen[10..13], [Some(false); 3]);
+    assert!(lives(ga()).iter().all(Option::is_none));
+}
+
 proptest::proptest! {
     #![proptest_config(proptest::prelude::ProptestConfig { cases: 32, ..Default::default() })]
 
@@ -146,6 +195,7 @@ proptest::proptest! {
         seed in proptest::prelude::any::<u64>(),
         local_search in 1usize..=8,
         adaptive_split in proptest::prelude::any::<bool>(),
+        challenge in 0u64..4,
     ) {
         let f = FnFitness(|c: &Chromosome| -(c.len() as f64 - 10.0).abs());
         let params = GaParams {
@@ -154,6 +204,7 @@ proptest::proptest! {
             init: InitLength::Between { lo: 1, hi: 30 },
             local_search,
             adaptive_split,
+            challenge,
             ..GaParams::paper_spaceship()
         };
         let mut check = |s: &GenerationStats<'_>| {
@@ -161,7 +212,8 @@ proptest::proptest! {
             std::ops::ControlFlow::Continue(())
         };
         let r = Ga::new(params).run(&graph, &f, &Budget::generations(12), seed, &mut check).unwrap();
-        proptest::prop_assert_eq!(r.population.len(), 10);
+        // The GA's 10, and a living challenger's 10.
+        proptest::prop_assert!([10, 20].contains(&r.population.len()), "{}", r.population.len());
         for i in &r.population {
             i.chromosome.validate(&graph).map_err(|e| proptest::test_runner::TestCaseError::fail(e.to_string()))?;
         }

@@ -118,16 +118,28 @@ fn same_seed_same_result_whatever_the_thread_count() {
     assert_ne!(one.population, other.population);
 }
 
+#[test]
+fn a_hybrid_with_challengers_reaches_the_optimum_and_is_deterministic() {
+    let challenged = |patience| {
+        let mut h = hybrid(100);
+        h.params.ga.challenge = patience;
+        h
+    };
+    crate::common::reaches_the_blocks_optimum(|seed| challenged(seed), &[1, 2, 3]);
+    let (one, other) = crate::common::same_result_whatever_the_thread_count(&challenged(1), 60);
+    assert_ne!(one.best, other.best);
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 32, ..ProptestConfig::default() })]
 
     /// Every model of hybrid runs on random graphs, in either phase, is a valid chromosome.
     #[test]
-    fn models_are_valid_chromosomes(graph in crate::common::graph(), seed in any::<u64>(), patience in 1u64..6, first in 0usize..3) {
+    fn models_are_valid_chromosomes(graph in crate::common::graph(), seed in any::<u64>(), patience in 1u64..6, first in 0usize..3, challenge in 0u64..4) {
         let f = FnFitness(|c: &Chromosome| -(c.len() as f64 - 10.0).abs());
         let init = InitLength::Between { lo: 1, hi: 30 };
         let params = HybridParams {
-            ga: GaParams { population: 10, elites: 2, init, ..GaParams::paper_spaceship() },
+            ga: GaParams { population: 10, elites: 2, init, challenge, ..GaParams::paper_spaceship() },
             rjmcmc: RjmcmcParams::paper(4, init),
             patience,
             patience_share: HYBRID_PATIENCE_SHARE,

@@ -225,6 +225,7 @@ pub(super) struct GaFile {
     pub adaptive_split: Option<bool>,
     pub max_retries: Option<u32>,
     pub crossover: Option<EdgeMatchFile>,
+    pub challenge: Option<u64>,
     pub budget: Option<Spanned<BudgetFile>>,
 }
 
@@ -276,6 +277,7 @@ pub(super) struct IslandsFile {
     pub interval: Option<u64>,
     pub migrants: Option<usize>,
     pub topology: Option<TopologyFile>,
+    pub challenge: Option<u64>,
     pub budget: Option<Spanned<BudgetFile>>,
 }
 
@@ -286,6 +288,7 @@ pub(super) struct HybridFile {
     pub patience: Option<u64>,
     pub patience_share: Option<f64>,
     pub first_phase: Option<FirstPhaseFile>,
+    pub challenge: Option<u64>,
     pub budget: Option<Spanned<BudgetFile>>,
 }
 

@@ -547,6 +547,49 @@ fn image_targets_take_a_mask_and_either_camera() {
 }
 
 #[test]
+fn every_ga_starts_challengers_unless_its_table_says_challenge_0() {
+    use crate::optimize::DEFAULT_CHALLENGE;
+    let challenges = |e: &Experiment| {
+        let MethodParams::Ga(ga) = e.method(Method::Ga).params else {
+            panic!("the GA");
+        };
+        let MethodParams::Islands(islands) = e.method(Method::Islands).params else {
+            panic!("the island GA");
+        };
+        let MethodParams::Hybrid(hybrid) = e.method(Method::Hybrid).params else {
+            panic!("the hybrid");
+        };
+        let MethodParams::Tandem(tandem) = e.method(Method::Tandem).params else {
+            panic!("the tandem");
+        };
+        [
+            ga.challenge,
+            islands.ga.challenge,
+            hybrid.ga.challenge,
+            tandem.challenge,
+        ]
+    };
+    let d = DEFAULT_CHALLENGE;
+    assert_eq!(challenges(&load(MINIMAL).unwrap()), [d; 4]);
+    let ga = "[ga]\npopulation = 120\nelites = 20\ninit_length = 30\nmutation_rate = 0.3\nsplit = { grow = 1.0, cut = 1.0, alter = 1.0 }\n";
+    assert_eq!(challenges(&load(&format!("{MINIMAL}{ga}")).unwrap()), [d; 4]);
+    // The paper's GA turns its own off; the islands and the hybrid keep theirs.
+    let paper = load(&format!("{MINIMAL}{ga}challenge = 0\n")).unwrap();
+    assert_eq!(challenges(&paper), [0, d, d, d]);
+    let own = "[islands]\nchallenge = 7\n[hybrid]\nchallenge = 0\n[tandem]\nchallenge = 9\n";
+    let e = load(&format!("{MINIMAL}{ga}challenge = 5\n{own}")).unwrap();
+    assert_eq!(challenges(&e), [5, 7, 0, 9]);
+    // Every paper experiment runs the paper's GA.
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/paper");
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let text = std::fs::read_to_string(entry.unwrap().path()).unwrap();
+        let file: crate::experiment::file::ExperimentFile = toml::from_str(&text).unwrap();
+        let ga = file.ga.expect("a [ga] table");
+        assert_eq!(ga.get_ref().challenge, Some(0));
+    }
+}
+
+#[test]
 fn the_island_ga_splits_the_experiments_ga() {
     // Without a table: the GA's population in 4 islands, with the GA's budget.
     let ga = "[ga]\npopulation = 120\nelites = 20\ninit_length = 30\nmutation_rate = 0.3\nsplit = { grow = 1.0, cut = 1.0, alter = 1.0 }\nbudget = { generations = 7 }\n";

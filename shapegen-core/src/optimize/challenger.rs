@@ -15,8 +15,14 @@ use serde::{Deserialize, Serialize};
 use super::checkpoint::{SavedChallenge, SavedChallenger};
 use super::evaluation::Candidate;
 use super::ga::GaState;
+use super::selection::rank_order;
 use super::{Ga, Individual, OptimizeError};
 use crate::graph::Graph;
+
+/// The patience of challengers where experiment files name none: the
+/// GA's, the island GA's and the hybrid's `challenge`, and the tandem's
+/// ([`TANDEM_CHALLENGE`](super::TANDEM_CHALLENGE)).
+pub const DEFAULT_CHALLENGE: u64 = 100;
 
 /// The share of a population's gain since its first generation that its
 /// best must rise by within the patience to count as progress.
@@ -279,6 +285,30 @@ impl Challenged {
         self.challenger
             .as_ref()
             .map_or(&[], |c| c.ga.population.as_slice())
+    }
+
+    /// The incumbent's and the challenger's models, best first (stable:
+    /// the incumbent's first on ties).
+    pub fn models_best_first(&self) -> Vec<Individual> {
+        let mut all = self.incumbent.population.clone();
+        all.extend(self.challenger_models().iter().cloned());
+        all.sort_by(|a, b| rank_order(a.fitness, b.fitness));
+        all
+    }
+
+    /// The same, taken out (the populations are left empty).
+    pub fn take_models(&mut self) -> Vec<Individual> {
+        let mut all = std::mem::take(&mut self.incumbent.population);
+        if let Some(c) = self.challenger.take() {
+            all.extend(c.ga.population);
+            all.sort_by(|a, b| rank_order(a.fitness, b.fitness));
+        }
+        all
+    }
+
+    /// The same, consuming the populations.
+    pub fn into_models(mut self) -> Vec<Individual> {
+        self.take_models()
     }
 
     /// The bookkeeping a checkpoint saves (the incumbent is saved apart).

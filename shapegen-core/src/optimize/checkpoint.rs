@@ -82,6 +82,10 @@ pub enum SavedState {
         /// of [`AdaptiveSplit`](super::AdaptiveSplit)'s qualities).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         split_bits: Option<[u64; 3]>,
+        /// The GA's stall and its challenger, if it starts challengers
+        /// ([`GaParams::challenge`](super::GaParams::challenge)).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        challenge: Option<Box<SavedChallenge>>,
     },
     /// SMC/SOSMC particles before resampling.
     Particles {
@@ -103,6 +107,12 @@ pub enum SavedState {
         /// [`SavedState::Population`]); empty otherwise.
         #[serde(default, skip_serializing_if = "Vec::is_empty")]
         split_bits: Vec<[u64; 3]>,
+        /// Each island's stall and challenger, in island order, if the
+        /// islands start challengers
+        /// ([`GaParams::challenge`](super::GaParams::challenge)); empty
+        /// otherwise.
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        challenges: Vec<SavedChallenge>,
     },
     /// The hybrid: the current phase's state (a GA population or RJMCMC
     /// chains) and, in the GA phase, its best and how long it has stalled.

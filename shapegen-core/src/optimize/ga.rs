@@ -8,6 +8,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::adaptive_split::{AdaptiveSplit, Origin};
+use super::challenger::{Challenged, Lineage};
 use super::checkpoint::{Checkpoint, SavedIndividual, SavedState};
 use super::driver::{Context, Method, Run, drive};
 use super::evaluation::Candidate;
@@ -66,6 +67,17 @@ pub struct GaParams {
     /// `false` (the paper): the fixed split.
     #[serde(default)]
     pub adaptive_split: bool,
+    /// Steps without progress (the best rising by
+    /// [`PROGRESS_SHARE`](super::PROGRESS_SHARE) of its gain since the first
+    /// generation) after which a *challenger* starts: a second population
+    /// from random models that steps in turn with the GA, takes its place
+    /// if its best overtakes the GA's, and is dropped if it stalls as long
+    /// below it (see [`TandemParams::challenge`](super::TandemParams::challenge),
+    /// which the tandem uses instead of this). `0` (the paper, the presets
+    /// and saved parameters without the field): never; experiment files
+    /// default to [`DEFAULT_CHALLENGE`](super::DEFAULT_CHALLENGE).
+    #[serde(default)]
+    pub challenge: u64,
 }
 
 impl Default for GaParams {
@@ -94,6 +106,7 @@ impl GaParams {
             elite_dedup: false,
             local_search: 0,
             adaptive_split: false,
+            challenge: 0,
         }
     }
 
@@ -445,6 +458,7 @@ impl Ga {
         let SavedState::Population {
             individuals,
             split_bits,
+            ..
         } = saved
         else {
             return Err(OptimizeError::Checkpoint(
@@ -476,13 +490,47 @@ impl Ga {
                 .map(|i| SavedIndividual::save(graph, i))
                 .collect(),
             split_bits: state.split.map(AdaptiveSplit::to_bits),
+            challenge: None,
         }
+    }
+}
+
+impl Ga {
+    /// A lone GA's population `state` with no challenger yet.
+    pub(crate) fn alone(state: GaState) -> Challenged {
+        Challenged::new(state, None, Lineage::ALONE)
+    }
+
+    /// The population and challenger saved in `saved` (a
+    /// [`SavedState::Population`]).
+    pub(crate) fn restore_challenged(
+        &self,
+        graph: &Graph,
+        saved: &SavedState,
+    ) -> Result<Challenged, OptimizeError> {
+        let incumbent = self.restore_state(graph, saved)?;
+        let challenge = match saved {
+            SavedState::Population { challenge, .. } => challenge.as_deref(),
+            _ => None,
+        };
+        Challenged::restore(self, graph, incumbent, None, Lineage::ALONE, challenge)
+    }
+
+    /// What [`restore_challenged`](Self::restore_challenged) restores.
+    pub(crate) fn save_challenged(&self, graph: &Graph, state: &Challenged) -> SavedState {
+        let mut saved = self.save_state(graph, &state.incumbent);
+        if let SavedState::Population { challenge, .. } = &mut saved
+            && self.params.challenge > 0
+        {
+            *challenge = Some(Box::new(state.save(self, graph)));
+        }
+        saved
     }
 }
 
 impl Method for Ga {
     type Params = GaParams;
-    type State = GaState;
+    type State = Challenged;
 
     fn name(&self) -> &'static str {
         "ga"
@@ -496,42 +544,49 @@ impl Method for Ga {
         self.params.problems()
     }
 
-    fn init<F: Fitness>(&self, cx: &mut Context<'_, '_, F>) -> Result<GaState, OptimizeError> {
+    fn init<F: Fitness>(&self, cx: &mut Context<'_, '_, F>) -> Result<Challenged, OptimizeError> {
         // Stopped by Ctrl-C or the clock like any generation: a generation 0
         // slower than the budget ends at the budget, with the models
         // evaluated by then (the rest are NaN).
         let initial = self.initial_population(cx.graph, cx.seed, None)?;
-        Ok(GaState::new(cx.evaluate_within_budget(initial)))
+        Ok(Self::alone(GaState::new(
+            cx.evaluate_within_budget(initial),
+        )))
     }
 
-    fn restore(&self, graph: &Graph, checkpoint: &Checkpoint) -> Result<GaState, OptimizeError> {
-        self.restore_state(graph, &checkpoint.state)
+    fn restore(&self, graph: &Graph, checkpoint: &Checkpoint) -> Result<Challenged, OptimizeError> {
+        self.restore_challenged(graph, &checkpoint.state)
     }
 
-    fn save(&self, graph: &Graph, state: &GaState) -> SavedState {
-        self.save_state(graph, state)
+    fn save(&self, graph: &Graph, state: &Challenged) -> SavedState {
+        self.save_challenged(graph, state)
     }
 
-    fn report<'s>(&self, _graph: &Graph, state: &'s GaState) -> Cow<'s, [Individual]> {
-        Cow::Borrowed(&state.population)
+    fn report<'s>(&self, _graph: &Graph, state: &'s Challenged) -> Cow<'s, [Individual]> {
+        if state.challenger_models().is_empty() {
+            Cow::Borrowed(&state.incumbent.population)
+        } else {
+            Cow::Owned(state.models_best_first())
+        }
     }
 
-    fn final_population(&self, _graph: &Graph, state: GaState) -> Vec<Individual> {
-        state.population
+    fn final_population(&self, _graph: &Graph, state: Challenged) -> Vec<Individual> {
+        state.into_models()
     }
 
     fn step<F: Fitness>(
         &self,
         cx: &mut Context<'_, '_, F>,
-        state: &mut GaState,
+        state: &mut Challenged,
     ) -> Result<ControlFlow<Vec<Individual>>, OptimizeError> {
-        let next = self.next_generation(cx.graph, state, cx.seed, cx.generation(), None);
+        let side = state.side();
+        let next = state.candidates(self, cx.graph, cx.seed, cx.generation(), side)?;
         match cx.evaluate_interruptible(next) {
             Some(evaluated) => {
-                state.settle(evaluated);
+                state.settle(side, evaluated, self.params.challenge);
                 Ok(ControlFlow::Continue(()))
             }
-            None => Ok(ControlFlow::Break(std::mem::take(&mut state.population))),
+            None => Ok(ControlFlow::Break(state.take_models())),
         }
     }
 }

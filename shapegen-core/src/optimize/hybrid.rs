@@ -7,9 +7,9 @@ use std::ops::ControlFlow;
 
 use serde::{Deserialize, Serialize};
 
+use super::challenger::Challenged;
 use super::checkpoint::{Checkpoint, SavedState};
 use super::driver::{Context, Method, Run, drive};
-use super::ga::GaState;
 use super::rjmcmc::Chains;
 use super::selection::{best_distinct_repeated, rank_order};
 use super::smc::Particles;
@@ -142,7 +142,7 @@ pub(crate) enum Phase {
     Smc(Smc, Particles),
     /// The GA, with its best so far and the generations since it last improved.
     Ga {
-        state: GaState,
+        state: Box<Challenged>,
         best: f64,
         stalled: u64,
     },
@@ -151,8 +151,13 @@ pub(crate) enum Phase {
 }
 
 impl Phase {
-    fn ga(state: GaState) -> Self {
-        let best = state.population.first().map_or(f64::NAN, |i| i.fitness);
+    fn ga(state: Challenged) -> Self {
+        let state = Box::new(state);
+        let best = state
+            .incumbent
+            .population
+            .first()
+            .map_or(f64::NAN, |i| i.fitness);
         Self::Ga {
             state,
             best,
@@ -219,7 +224,7 @@ impl Method for Hybrid {
                 Phase::Smc(smc, smc.restore_state(graph, state)?)
             }
             _ => Phase::Ga {
-                state: self.ga().restore_state(graph, state)?,
+                state: Box::new(self.ga().restore_challenged(graph, state)?),
                 best: f64::from_bits(*best_bits),
                 stalled: *stalled,
             },
@@ -232,7 +237,11 @@ impl Method for Hybrid {
                 state,
                 best,
                 stalled,
-            } => (best.to_bits(), *stalled, self.ga().save_state(graph, state)),
+            } => (
+                best.to_bits(),
+                *stalled,
+                self.ga().save_challenged(graph, state),
+            ),
             Phase::Rjmcmc(chains) => (0, 0, self.rjmcmc().save_state(graph, chains)),
             Phase::Smc(smc, particles) => (0, 0, smc.save(graph, particles)),
         };
@@ -246,7 +255,7 @@ impl Method for Hybrid {
     fn report<'s>(&self, graph: &Graph, phase: &'s Phase) -> Cow<'s, [Individual]> {
         match phase {
             Phase::Smc(smc, particles) => smc.report(graph, particles),
-            Phase::Ga { state, .. } => Cow::Borrowed(&state.population),
+            Phase::Ga { state, .. } => self.ga().report(graph, state),
             Phase::Rjmcmc(chains) => Cow::Borrowed(&chains.chains),
         }
     }
@@ -254,7 +263,7 @@ impl Method for Hybrid {
     fn final_population(&self, graph: &Graph, phase: Phase) -> Vec<Individual> {
         match phase {
             Phase::Smc(smc, particles) => smc.final_population(graph, particles),
-            Phase::Ga { state, .. } => state.population,
+            Phase::Ga { state, .. } => self.ga().final_population(graph, *state),
             Phase::Rjmcmc(chains) => chains.chains,
         }
     }
@@ -273,7 +282,7 @@ impl Method for Hybrid {
                 }
                 if smc.exhausted(particles) {
                     let models = smc.report(cx.graph, particles).into_owned();
-                    *phase = Phase::ga(self.ga().population_from(cx, &models, None)?);
+                    *phase = Phase::ga(Ga::alone(self.ga().population_from(cx, &models, None)?));
                 }
                 return Ok(ControlFlow::Continue(()));
             }
@@ -286,14 +295,14 @@ impl Method for Hybrid {
         if let ControlFlow::Break(population) = self.ga().step(cx, state)? {
             return Ok(ControlFlow::Break(population));
         }
-        let now = state.population[0].fitness;
+        let now = state.incumbent.population[0].fitness;
         if rank_order(now, *best).is_lt() {
             (*best, *stalled) = (now, 0);
         } else {
             *stalled += 1;
         }
         if self.params.switches(*stalled, cx.generation()) {
-            *phase = Phase::Rjmcmc(self.chains_from(cx.graph, &state.population));
+            *phase = Phase::Rjmcmc(self.chains_from(cx.graph, &state.incumbent.population));
         }
         Ok(ControlFlow::Continue(()))
     }

@@ -7,6 +7,7 @@ use rand::RngExt;
 use serde::{Deserialize, Serialize};
 
 use super::adaptive_split::AdaptiveSplit;
+use super::challenger::{Challenged, Lineage};
 use super::checkpoint::{Checkpoint, SavedIndividual, SavedState};
 use super::driver::{Context, Method, Run, drive};
 use super::ga::GaState;
@@ -113,38 +114,57 @@ impl IslandGa {
         Ga::new(self.params.ga)
     }
 
+    /// Where island `k`'s challengers draw their streams.
+    fn lineage(&self, k: u64) -> Lineage {
+        Lineage {
+            home: k,
+            stride: self.params.islands as u64,
+        }
+    }
+
+    /// Island `k`'s population `state`, with no challenger yet.
+    fn island(&self, k: u64, state: GaState) -> Challenged {
+        Challenged::new(state, Some(k), self.lineage(k))
+    }
+
     /// Each island's population, from one evaluated batch of all of them.
-    fn split(&self, mut all: Vec<Individual>) -> Vec<GaState> {
+    fn split(&self, mut all: Vec<Individual>) -> Vec<Challenged> {
         let n = self.params.ga.population;
         let mut islands = Vec::with_capacity(self.params.islands);
         while !all.is_empty() {
             let rest = all.split_off(n.min(all.len()));
-            islands.push(GaState::new(all));
+            islands.push(self.island(islands.len() as u64, GaState::new(all)));
             all = rest;
         }
         islands
     }
 
-    /// Sends each island's best to its destination, replacing the worst there.
-    fn migrate(&self, islands: &mut [GaState], seed: u64, generation: u64) {
+    /// Sends each island's best to its destination, replacing the worst
+    /// there (the islands' incumbents; challengers neither send nor
+    /// receive, so a population that has spread over every island cannot
+    /// take them over before they overtake it).
+    fn migrate(&self, islands: &mut [Challenged], seed: u64, generation: u64) {
         let k = islands.len();
         let m = self.params.migrants;
         if k < 2 || m == 0 {
             return;
         }
-        let migrants: Vec<Vec<Individual>> =
-            islands.iter().map(|s| s.population[..m].to_vec()).collect();
+        let migrants: Vec<Vec<Individual>> = islands
+            .iter()
+            .map(|s| s.incumbent.population[..m].to_vec())
+            .collect();
         let mut rng = stream(seed, &[generation, u64::MAX, purpose::MIGRATE]);
         for (from, group) in migrants.into_iter().enumerate() {
             let to = match self.params.topology {
                 Topology::Ring => (from + 1) % k,
                 Topology::Random => (from + 1 + rng.random_range(0..k - 1)) % k,
             };
-            let mut population = std::mem::take(&mut islands[to].population);
+            let island = &mut islands[to].incumbent;
+            let mut population = std::mem::take(&mut island.population);
             let keep = population.len() - m;
             population.truncate(keep);
             population.extend(group);
-            islands[to].replace(population);
+            island.replace(population);
         }
     }
 }
@@ -161,7 +181,7 @@ impl Optimizer for IslandGa {
 
 impl Method for IslandGa {
     type Params = IslandParams;
-    type State = Vec<GaState>;
+    type State = Vec<Challenged>;
 
     fn name(&self) -> &'static str {
         "islands"
@@ -175,7 +195,10 @@ impl Method for IslandGa {
         self.params.problems()
     }
 
-    fn init<F: Fitness>(&self, cx: &mut Context<'_, '_, F>) -> Result<Vec<GaState>, OptimizeError> {
+    fn init<F: Fitness>(
+        &self,
+        cx: &mut Context<'_, '_, F>,
+    ) -> Result<Vec<Challenged>, OptimizeError> {
         let mut all = Vec::new();
         for k in 0..self.params.islands as u64 {
             all.extend(self.ga().initial_population(cx.graph, cx.seed, Some(k))?);
@@ -187,10 +210,11 @@ impl Method for IslandGa {
         &self,
         graph: &Graph,
         checkpoint: &Checkpoint,
-    ) -> Result<Vec<GaState>, OptimizeError> {
+    ) -> Result<Vec<Challenged>, OptimizeError> {
         let SavedState::Islands {
             islands,
             split_bits,
+            challenges,
         } = &checkpoint.state
         else {
             return Err(OptimizeError::Checkpoint(
@@ -209,6 +233,12 @@ impl Method for IslandGa {
                 split_bits.len()
             )));
         }
+        if !challenges.is_empty() && challenges.len() != k {
+            return Err(OptimizeError::Checkpoint(format!(
+                "it holds challenges for {} islands, not {k}",
+                challenges.len()
+            )));
+        }
         islands
             .iter()
             .enumerate()
@@ -219,17 +249,26 @@ impl Method for IslandGa {
                     .collect::<Result<Vec<_>, _>>()?;
                 let mut state = GaState::new(population);
                 state.split = split_bits.get(i).map(|&b| AdaptiveSplit::from_bits(b));
-                Ok(state)
+                let k = i as u64;
+                Challenged::restore(
+                    &self.ga(),
+                    graph,
+                    state,
+                    Some(k),
+                    self.lineage(k),
+                    challenges.get(i),
+                )
             })
             .collect()
     }
 
-    fn save(&self, graph: &Graph, islands: &Vec<GaState>) -> SavedState {
+    fn save(&self, graph: &Graph, islands: &Vec<Challenged>) -> SavedState {
         SavedState::Islands {
             islands: islands
                 .iter()
                 .map(|s| {
-                    s.population
+                    s.incumbent
+                        .population
                         .iter()
                         .map(|i| SavedIndividual::save(graph, i))
                         .collect()
@@ -237,22 +276,34 @@ impl Method for IslandGa {
                 .collect(),
             split_bits: islands
                 .iter()
-                .filter_map(|s| s.split.map(AdaptiveSplit::to_bits))
+                .filter_map(|s| s.incumbent.split.map(AdaptiveSplit::to_bits))
                 .collect(),
+            challenges: if self.params.ga.challenge > 0 {
+                islands.iter().map(|s| s.save(&self.ga(), graph)).collect()
+            } else {
+                Vec::new()
+            },
         }
     }
 
-    fn report<'s>(&self, _graph: &Graph, islands: &'s Vec<GaState>) -> Cow<'s, [Individual]> {
+    fn report<'s>(&self, _graph: &Graph, islands: &'s Vec<Challenged>) -> Cow<'s, [Individual]> {
         Cow::Owned(
             islands
                 .iter()
-                .flat_map(|s| s.population.iter().cloned())
+                .flat_map(|s| {
+                    (s.incumbent.population.iter())
+                        .chain(s.challenger_models())
+                        .cloned()
+                })
                 .collect(),
         )
     }
 
-    fn final_population(&self, _graph: &Graph, islands: Vec<GaState>) -> Vec<Individual> {
-        let mut all: Vec<Individual> = islands.into_iter().flat_map(|s| s.population).collect();
+    fn final_population(&self, _graph: &Graph, islands: Vec<Challenged>) -> Vec<Individual> {
+        let mut all: Vec<Individual> = islands
+            .into_iter()
+            .flat_map(Challenged::into_models)
+            .collect();
         all.sort_by(|a, b| rank_order(a.fitness, b.fitness));
         all
     }
@@ -260,24 +311,31 @@ impl Method for IslandGa {
     fn step<F: Fitness>(
         &self,
         cx: &mut Context<'_, '_, F>,
-        islands: &mut Vec<GaState>,
+        islands: &mut Vec<Challenged>,
     ) -> Result<ControlFlow<Vec<Individual>>, OptimizeError> {
         let (graph, seed, g) = (cx.graph, cx.seed, cx.generation());
         let ga = self.ga();
         let mut all = Vec::with_capacity(islands.len() * self.params.ga.population);
-        for (k, island) in islands.iter_mut().enumerate() {
-            all.extend(ga.next_generation(graph, island, seed, g, Some(k as u64)));
+        let mut steps = Vec::with_capacity(islands.len());
+        for island in islands.iter_mut() {
+            let side = island.side();
+            let next = island.candidates(&ga, graph, seed, g, side)?;
+            steps.push((side, next.len()));
+            all.extend(next);
         }
         let Some(evaluated) = cx.evaluate_interruptible(all) else {
             let previous = std::mem::take(islands);
             return Ok(ControlFlow::Break(
-                previous.into_iter().flat_map(|s| s.population).collect(),
+                previous
+                    .into_iter()
+                    .flat_map(Challenged::into_models)
+                    .collect(),
             ));
         };
         let mut rest = evaluated;
-        for island in islands.iter_mut() {
-            let tail = rest.split_off(self.params.ga.population.min(rest.len()));
-            island.settle(rest);
+        for (island, (side, count)) in islands.iter_mut().zip(steps) {
+            let tail = rest.split_off(count.min(rest.len()));
+            island.settle(side, rest, self.params.ga.challenge);
             rest = tail;
         }
         if g % self.params.interval == 0 {
@@ -295,7 +353,11 @@ mod tests {
     #[test]
     fn a_ring_migration_replaces_each_next_islands_worst_with_the_best() {
         let individual = with_fitness();
-        let island = |scores: &[f64]| GaState::new(scores.iter().map(|&f| individual(f)).collect());
+        let island = |scores: &[f64]| {
+            Ga::alone(GaState::new(
+                scores.iter().map(|&f| individual(f)).collect(),
+            ))
+        };
         let ga = IslandGa::new(IslandParams {
             ga: GaParams {
                 population: 4,
@@ -315,7 +377,7 @@ mod tests {
         ga.migrate(&mut islands, 1, 1);
         let scores: Vec<Vec<f64>> = islands
             .iter()
-            .map(|s| s.population.iter().map(|i| i.fitness).collect())
+            .map(|s| s.incumbent.population.iter().map(|i| i.fitness).collect())
             .collect();
         assert_eq!(
             scores,

@@ -39,7 +39,7 @@ use std::time::Duration;
 pub use adaptive_split::{AdaptiveSplit, MIN_SHARE, SMOOTHING};
 pub use balance::{Balance, MAX_LEAN};
 pub use budget::{Budget, StopReason};
-pub use challenger::{PROGRESS_SHARE, Stall};
+pub use challenger::{DEFAULT_CHALLENGE, PROGRESS_SHARE, Stall};
 pub use checkpoint::{
     CHECKPOINT_VERSION, Checkpoint, FNV1A_START, SavedChallenge, SavedChallenger, SavedIndividual,
     SavedParticle, SavedState, fnv1a,

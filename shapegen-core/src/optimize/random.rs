@@ -94,6 +94,7 @@ impl Method for RandomSearch {
         SavedState::Population {
             individuals: Vec::new(),
             split_bits: None,
+            challenge: None,
         }
     }
 

@@ -82,7 +82,7 @@ pub const TANDEM_MIGRANTS: usize = 2;
 pub const TANDEM_LOCAL_SEARCH: usize = 30;
 /// The [`TandemParams::challenge`] of [`TandemParams::recommended`]: GA
 /// steps without progress before a challenger starts.
-pub const TANDEM_CHALLENGE: u64 = 100;
+pub const TANDEM_CHALLENGE: u64 = super::DEFAULT_CHALLENGE;
 
 impl TandemParams {
     /// The GA and the chains of `ga` and `rjmcmc`, with the default exchange.
@@ -117,6 +117,8 @@ impl TandemParams {
             challenge: TANDEM_CHALLENGE,
             ..Self::new(
                 GaParams {
+                    // The tandem's own `challenge` governs its GA.
+                    challenge: 0,
                     elite_dedup: true,
                     local_search: TANDEM_LOCAL_SEARCH.min(ga.children()),
                     ..ga

@@ -2,7 +2,10 @@
 //! method without a table gets the paper's spaceship presets; a key left out
 //! of a table gets the preset's value. The island GA is the experiment's GA
 //! split into islands, with the GA's budget unless `[islands]` gives one;
-//! the hybrid runs the experiment's GA, then its RJMCMC.
+//! the hybrid runs the experiment's GA, then its RJMCMC. Every GA starts
+//! challengers after `DEFAULT_CHALLENGE` steps without progress unless its
+//! table says `challenge = 0` (the paper's GA): `[ga]` for the GA,
+//! `[islands]` and `[hybrid]` for theirs, `[tandem]` for the tandem's.
 
 use std::collections::BTreeMap;
 
@@ -16,8 +19,9 @@ use crate::experiment::file::{
 use crate::experiment::{ExperimentError, Method, MethodConfig, MethodParams};
 use crate::ops::{CrossoverConfig, EdgeMatch, InitLength, MutationSplit};
 use crate::optimize::{
-    Budget, DelayedRejection, GaParams, HYBRID_PATIENCE_SHARE, HybridParams, IslandParams,
-    RjmcmcParams, SmcParams, TANDEM_INTERVAL, TANDEM_MIGRANTS, TandemParams, Topology,
+    Budget, DEFAULT_CHALLENGE, DelayedRejection, GaParams, HYBRID_PATIENCE_SHARE, HybridParams,
+    IslandParams, RjmcmcParams, SmcParams, TANDEM_INTERVAL, TANDEM_MIGRANTS, TandemParams,
+    Topology,
 };
 
 /// The largest population, particle or chain count (each individual keeps a
@@ -125,7 +129,10 @@ fn config(
 }
 
 fn ga(ctx: &Ctx<'_>, table: Option<&Spanned<GaFile>>) -> Result<MethodConfig, ExperimentError> {
-    let preset = GaParams::paper_spaceship();
+    let preset = GaParams {
+        challenge: DEFAULT_CHALLENGE,
+        ..GaParams::paper_spaceship()
+    };
     let Some(t) = table else {
         return Ok(MethodConfig {
             params: MethodParams::Ga(preset),
@@ -151,6 +158,7 @@ fn ga(ctx: &Ctx<'_>, table: Option<&Spanned<GaFile>>) -> Result<MethodConfig, Ex
         elite_dedup: g.elite_dedup.unwrap_or(preset.elite_dedup),
         local_search: g.local_search.unwrap_or(preset.local_search),
         adaptive_split: g.adaptive_split.unwrap_or(preset.adaptive_split),
+        challenge: g.challenge.unwrap_or(preset.challenge),
         ..preset
     };
     let mut problems = params.problems();
@@ -249,6 +257,18 @@ fn islands(
     let MethodParams::Ga(ga_params) = ga.params else {
         unreachable!("the GA's configuration holds GA parameters")
     };
+    // Islands start challengers whatever the GA does (the paper's
+    // experiments turn the GA's off): a quarter of the population
+    // collapses where the whole does not.
+    let challenge = f
+        .islands
+        .as_ref()
+        .and_then(|t| t.get_ref().challenge)
+        .unwrap_or(DEFAULT_CHALLENGE);
+    let ga_params = GaParams {
+        challenge,
+        ..ga_params
+    };
     let preset = IslandParams::split(ga_params);
     let Some(t) = f.islands.as_ref() else {
         return Ok(MethodConfig {
@@ -302,8 +322,16 @@ fn hybrid(
     else {
         unreachable!("the GA's and RJMCMC's configurations hold their parameters")
     };
+    let challenge = f
+        .hybrid
+        .as_ref()
+        .and_then(|t| t.get_ref().challenge)
+        .unwrap_or(DEFAULT_CHALLENGE);
     let mut params = HybridParams {
-        ga: ga_params,
+        ga: GaParams {
+            challenge,
+            ..ga_params
+        },
         rjmcmc,
         patience: HYBRID_PATIENCE,
         patience_share: HYBRID_PATIENCE_SHARE,
