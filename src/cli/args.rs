@@ -268,7 +268,7 @@ pub struct RunArgs {
     /// The experiment.
     #[command(flatten)]
     pub experiment: ExperimentArgs,
-    /// Method (ga, smc, sosmc, rjmcmc, islands, hybrid, tandem); default: the experiment's.
+    /// Method (tandem, ga, smc, sosmc, rjmcmc, islands, hybrid); default: the experiment's `method`, else tandem.
     #[arg(long, value_parser = parse_method)]
     pub method: Option<Method>,
     /// Wall-clock budget in seconds (replaces the experiment's budget).
