@@ -144,7 +144,7 @@ fn ga_with_challengers(patience: u64) -> Ga {
 
 #[test]
 fn challengers_reach_the_optimum_and_beat_random_search() {
-    crate::common::reaches_the_blocks_optimum(|seed| ga_with_challengers(seed), &[1, 2, 3]);
+    crate::common::reaches_the_blocks_optimum(ga_with_challengers, &[1, 2, 3]);
 }
 
 #[test]

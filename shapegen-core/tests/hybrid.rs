@@ -125,7 +125,7 @@ fn a_hybrid_with_challengers_reaches_the_optimum_and_is_deterministic() {
         h.params.ga.challenge = patience;
         h
     };
-    crate::common::reaches_the_blocks_optimum(|seed| challenged(seed), &[1, 2, 3]);
+    crate::common::reaches_the_blocks_optimum(challenged, &[1, 2, 3]);
     let (one, other) = crate::common::same_result_whatever_the_thread_count(&challenged(1), 60);
     assert_ne!(one.best, other.best);
 }

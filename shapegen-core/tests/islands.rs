@@ -53,7 +53,7 @@ fn with_challengers(patience: u64) -> IslandGa {
 
 #[test]
 fn islands_with_challengers_reach_the_optimum_and_are_deterministic() {
-    crate::common::reaches_the_blocks_optimum(|seed| with_challengers(seed), &[1, 2, 3]);
+    crate::common::reaches_the_blocks_optimum(with_challengers, &[1, 2, 3]);
     let (one, other) =
         crate::common::same_result_whatever_the_thread_count(&with_challengers(1), 40);
     assert_ne!(one.population, other.population);

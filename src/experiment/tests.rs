@@ -572,7 +572,10 @@ fn every_ga_starts_challengers_unless_its_table_says_challenge_0() {
     let d = DEFAULT_CHALLENGE;
     assert_eq!(challenges(&load(MINIMAL).unwrap()), [d; 4]);
     let ga = "[ga]\npopulation = 120\nelites = 20\ninit_length = 30\nmutation_rate = 0.3\nsplit = { grow = 1.0, cut = 1.0, alter = 1.0 }\n";
-    assert_eq!(challenges(&load(&format!("{MINIMAL}{ga}")).unwrap()), [d; 4]);
+    assert_eq!(
+        challenges(&load(&format!("{MINIMAL}{ga}")).unwrap()),
+        [d; 4]
+    );
     // The paper's GA turns its own off; the islands and the hybrid keep theirs.
     let paper = load(&format!("{MINIMAL}{ga}challenge = 0\n")).unwrap();
     assert_eq!(challenges(&paper), [0, d, d, d]);
