@@ -248,7 +248,7 @@ pub fn index_assertions(slots: &[Slot], body: &TokenStream) -> TokenStream {
             c.id
         );
         let span = c.index.as_ref().map_or(c.span, Spanned::span);
-        Some(quote_spanned!(span=> const _: () = ::core::assert!(#k < (#len) as usize, #msg);))
+        Some(quote_spanned!(span=> const _: () = ::core::assert!(#k < ::core::convert::identity::<usize>(#len), #msg);))
     });
     quote!(#(#asserts)*)
 }
@@ -488,7 +488,7 @@ pub fn slots_len_plus(slots: &[Slot], extra: usize) -> TokenStream {
         .iter()
         .filter(|s| s.literal_len().is_none())
         .filter_map(|s| s.count.as_ref());
-    quote!(#known #(+ (#exprs) as usize)*)
+    quote!(#known #(+ ::core::convert::identity::<usize>(#exprs))*)
 }
 
 /// Whether a body calls `emit!` anywhere.

@@ -86,13 +86,16 @@ fn constant_expression_lengths_are_left_to_the_compiler() {
     );
     assert!(!out.contains("compile_error"), "{out}");
     // `last` follows the array, `x` both; a constant index is asserted at compile time.
-    assert!(out.contains("index : 0usize + (N * N) as usize"), "{out}");
     assert!(
-        out.contains("HEADER_WORDS + 1usize + (N * N) as usize"),
+        out.contains("index : 0usize + :: core :: convert :: identity :: < usize > (N * N)"),
         "{out}"
     );
     assert!(
-        out.contains("const _ : () = :: core :: assert ! (2usize < (N * N) as usize"),
+        out.contains("HEADER_WORDS + 1usize + :: core :: convert :: identity :: < usize > (N * N)"),
+        "{out}"
+    );
+    assert!(
+        out.contains("const _ : () = :: core :: assert ! (2usize < :: core :: convert :: identity :: < usize > (N * N)"),
         "{out}"
     );
 }
