@@ -56,16 +56,11 @@ pub(super) fn gallery(cli: &Cli, args: &GalleryArgs) -> Result<(), CliError> {
     }
     let total = options.samples + 1;
     let bar = (!args.quiet).then(|| {
-        let bar = indicatif::ProgressBar::new(total as u64);
-        bar.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{msg} [{bar:30}] {pos}/{len} models, {elapsed} (eta {eta})",
-            )
-            .expect("valid template")
-            .progress_chars("=> "),
-        );
-        bar.set_message(format!("gallery of `{}`", experiment.generator()));
-        bar
+        super::progress::counting_bar(
+            total,
+            "models",
+            format!("gallery of `{}`", experiment.generator()),
+        )
     });
     let start = Instant::now();
     let progress = |done: usize| {

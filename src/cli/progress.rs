@@ -10,6 +10,26 @@ use crate::experiment::Experiment;
 use crate::optimize::{Budget, GenerationStats, Observer};
 use crate::output::mean_iou;
 
+/// A bar counting `len` items of `unit` (`models`, `frames`, ...) with
+/// `message` before it, elapsed time and an estimate of what is left: the
+/// bar of every command that works through a known number of items.
+pub(super) fn counting_bar(
+    len: usize,
+    unit: &str,
+    message: impl Into<std::borrow::Cow<'static, str>>,
+) -> ProgressBar {
+    let bar = ProgressBar::new(len as u64);
+    bar.set_style(
+        ProgressStyle::with_template(&format!(
+            "{{msg}} [{{bar:30}}] {{pos}}/{{len}} {unit}, {{elapsed}} (eta {{eta}})"
+        ))
+        .expect("valid template")
+        .progress_chars("=> "),
+    );
+    bar.set_message(message);
+    bar
+}
+
 /// How often the IoU of the best model is recomputed for the display (it
 /// costs one extra scoring of that model).
 const IOU_EVERY: Duration = Duration::from_millis(500);

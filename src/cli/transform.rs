@@ -68,18 +68,8 @@ pub(super) fn transform(cli: &Cli, args: &TransformArgs) -> Result<(), CliError>
     let stage = Stage::new(&args.out)?;
     let out = stage.path();
     std::fs::create_dir_all(out.join("frames")).map_err(|e| ExperimentError::write(out, e))?;
-    let bar = (!args.quiet && times.len() > 1).then(|| {
-        let bar = indicatif::ProgressBar::new(times.len() as u64);
-        bar.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{msg} [{bar:30}] {pos}/{len} frames, {elapsed} (eta {eta})",
-            )
-            .expect("valid template")
-            .progress_chars("=> "),
-        );
-        bar.set_message("transforming");
-        bar
-    });
+    let bar = (!args.quiet && times.len() > 1)
+        .then(|| super::progress::counting_bar(times.len(), "frames", "transforming"));
     let mut facts = Vec::with_capacity(times.len());
     // The frames the sheet, the animation and the page show (indices into facts).
     let mut pictures = Vec::new();

@@ -114,18 +114,8 @@ pub(super) fn variations(
     } else {
         None
     };
-    let bar = (!args.quiet && count > 1).then(|| {
-        let bar = indicatif::ProgressBar::new(count as u64);
-        bar.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{msg} [{bar:30}] {pos}/{len} variations, {elapsed} (eta {eta})",
-            )
-            .expect("valid template")
-            .progress_chars("=> "),
-        );
-        bar.set_message("drawing");
-        bar
-    });
+    let bar = (!args.quiet && count > 1)
+        .then(|| super::progress::counting_bar(count, "variations", "drawing"));
     let sheet: Vec<image::RgbaImage> = models
         .par_iter()
         .enumerate()
